@@ -1,0 +1,1 @@
+"""Logic, SAT, counting, cross-file checks and configurations.  Pure: no LSP here."""

@@ -1,0 +1,1 @@
+"""TVL front end: grammar, parser, resolver and checks.  Pure: no LSP here."""
