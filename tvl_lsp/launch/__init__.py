@@ -1,1 +1,24 @@
-"""roslaunch 1 XML front end: secure parsing, load-time rules, arg scopes, presence conditions.  Pure: no LSP here."""
+"""roslaunch 1 XML front end: secure parsing, load-time rules, arg scopes, presence conditions.  Pure: no LSP here.
+
+Public API::
+
+    analyse_launch(text, path, workspace_root=None, read_file=None, *, features=None, env=None,
+                   packages=None) -> LaunchAnalysis      # symbolic: all assignments at once
+    check_launch(analysis) -> list[Diagnostic]          # a launch file on its own (no model)
+    load_launch(path, args, workspace_root=None, read_file=None, *, text=None, env=None,
+                packages=None) -> LoadResult             # concrete: one assignment, like roslaunch
+    parse_xml(text, path) -> XmlDoc                      # secure parse with exact ranges
+    find_packages(workspace_root) -> {package: folder}
+"""
+
+from .loader import analyse_launch, check_launch, load_launch
+from .model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
+                    ParamFact, Subst)
+from .packages import find_packages, guess_workspace_root
+from .xml import parse_xml
+
+parse_launch = analyse_launch
+
+__all__ = ["analyse_launch", "check_launch", "load_launch", "parse_launch", "parse_xml", "find_packages",
+           "guess_workspace_root", "ArgDecl", "Attr", "Element", "ErrorFact", "IncludeFact", "LaunchAnalysis",
+           "LoadResult", "NodeFact", "ParamFact", "Subst"]

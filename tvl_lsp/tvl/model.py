@@ -59,6 +59,8 @@ class Name(Expr):
     # for a dotted name whose head designates a feature and whose tail is an attribute
     # (or a struct field path), the feature part is in ``feature`` and ``target`` is the attribute.
     feature: Optional["Feature"] = None
+    # (added) what each part designates, parallel to ``parts`` (filled by the resolver)
+    part_targets: list = field(default_factory=list)
 
     @property
     def text(self) -> str:
@@ -171,6 +173,8 @@ class Attribute:
     enum_values: list[EnumValue] = field(default_factory=list)  # for ``enum NAME in {a, b}``
     # struct-typed attribute: refinements of its fields (field name -> Attribute)
     field_refinements: dict[str, "Attribute"] = field(default_factory=dict)
+    # (added) where the type name is written (None for field refinements)
+    type_span: Optional[Span] = None
 
     @property
     def long_name(self) -> str:

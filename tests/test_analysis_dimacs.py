@@ -1,0 +1,138 @@
+"""DIMACS import, counting service (cache, timeout, cancel), configuration, CLI."""
+
+import itertools
+import json
+import random
+import threading
+import time
+from pathlib import Path
+
+import pyganak
+import pytest
+
+from tvl_lsp.analysis import count as C
+from tvl_lsp.analysis.dimacs import dimacs_to_model, parse_dimacs
+from tvl_lsp.analysis.engine import ModelAnalysis
+from tvl_lsp.commands import count as count_cmd
+from tvl_lsp.tvl import parse_model
+
+SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+DIMACS = SHARED / "models" / "dimacs"
+THESIS = SHARED / "corpus" / "thesis"
+
+
+def raw_count(text):
+    nvars, clauses, _, _ = parse_dimacs(text)
+    c = pyganak.Counter()
+    c.new_vars(nvars)
+    c.add_clauses(clauses)
+    return c.count()
+
+
+def brute(nvars, clauses):
+    return sum(all(any((x > 0) == bits[abs(x) - 1] for x in c) for c in clauses)
+               for bits in itertools.product([False, True], repeat=nvars))
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_random_cnf_with_partial_names(seed):
+    rng = random.Random(seed)
+    n = rng.randint(1, 9)
+    clauses = [[rng.choice([-1, 1]) * rng.randint(1, n) for _ in range(rng.randint(1, 3))]
+               for _ in range(rng.randint(0, 12))]
+    lines = [f"c {i} v{i}" for i in range(1, n + 1) if rng.random() < 0.6]
+    lines.append(f"p cnf {n} {len(clauses)}")
+    lines += [" ".join(map(str, c)) + " 0" for c in clauses]
+    a = ModelAnalysis.from_dimacs("\n".join(lines) + "\n", "r.dimacs")
+    assert a.encoding.n_features == n + 1
+    assert a.count() == brute(n, clauses)
+
+
+@pytest.mark.parametrize("name", ["busybox-1.18.0.dimacs", "uclinux-distribution.dimacs"])
+def test_dimacs_models_count_like_pyganak_on_the_raw_cnf(name):
+    text = (DIMACS / name).read_text()
+    a = ModelAnalysis.from_dimacs(text, str(DIMACS / name))
+    assert a.encoding.nvars == a.encoding.n_features  # no auxiliary variable: plain count
+    assert a.count() == raw_count(text)
+
+
+def test_dimacs_anomalies_have_explanations_with_clause_lines():
+    p = DIMACS / "busybox-1.18.0.dimacs"
+    text = p.read_text()
+    a = ModelAnalysis.from_dimacs(text, str(p))
+    diags = a.anomalies(time_budget=10)
+    dead = [d for d in diags if d.code == "dead-feature"]
+    assert len(dead) == len(a.dead_features()) > 0
+    lines = text.splitlines()
+    for d in dead:
+        assert d.related, d.message
+        assert lines[d.span.start.line].startswith("c ")
+        for r in d.related:
+            if r.message.startswith("constraint"):
+                assert lines[r.span.start.line].rstrip().endswith(" 0")
+
+
+def test_cache_hit_is_fast_and_logical():
+    p = THESIS / "ws" / "src" / "turtlebot" / "launch" / "turtlebot.tvl"
+    text = p.read_text()
+    a = ModelAnalysis(parse_model(text, str(p)).model)
+    assert a.count(include=["Kobuki"]) == 512
+    # the same model with other layout and comments: a new analysis object, cached answer
+    b = ModelAnalysis(parse_model("// hello\n\n" + text.replace("\n", "\n\n"), str(p)).model)
+    t = time.perf_counter()
+    assert b.count(include=["Kobuki"]) == 512
+    assert time.perf_counter() - t < 0.05
+    # an uncached one-feature count on a thesis model also answers within the hover budget
+    t = time.perf_counter()
+    assert b.count(include=["Astra"], exclude=["Teleop"]) == 24  # Base 6 x Stacks 2 x Battery 2
+    assert time.perf_counter() - t < 0.05
+
+
+def test_timeout_and_cancel_kill_the_counter():
+    text = (DIMACS / "automotive01.dimacs").read_text()
+    a = ModelAnalysis.from_dimacs(text, "automotive01.dimacs")
+    t = time.monotonic()
+    with pytest.raises(C.CountTimeout):
+        a.count(timeout=0.5)
+    assert time.monotonic() - t < 3
+    ev = threading.Event()
+    threading.Timer(0.3, ev.set).start()
+    t = time.monotonic()
+    with pytest.raises(C.CountCancelled):
+        a.count(exclude=["root"] if a.encoding.feature_by_name("root") else [], cancel=ev)
+    assert time.monotonic() - t < 3
+
+
+def test_subprocess_counter_agrees_with_in_process():
+    cls = [[1, 2], [-1, 3], [4, -2, 5]]
+    assert C.count_cnf(6, cls, [1, 2, 3], inprocess=False) == C.count_cnf(6, cls, [1, 2, 3], inprocess=True) == 4
+
+
+def test_propagation_and_conflicts():
+    p = THESIS / "ws" / "src" / "turtlebot" / "launch" / "turtlebot.tvl"
+    a = ModelAnalysis(parse_model(p.read_text(), str(p)).model)
+    r = a.propagate({"Kobuki": True})
+    assert r.ok
+    assert r.forced["Minimal"] is True and r.forced["Base"] is True
+    assert r.forced["Create"] is False and r.forced["Roomba"] is False
+    assert r.count == 512
+    r = a.propagate({"Logitech": True, "Ps3": True, "Kinect": True, "Teleop": True})
+    assert not r.ok and sorted(r.conflict) == ["Logitech", "Ps3"] and r.count == 0
+    r = a.propagate({"Teleop": False, "Keyboard": True})
+    assert sorted(r.conflict) == ["Keyboard", "Teleop"]
+
+
+def test_count_command(capsys, tmp_path):
+    p = THESIS / "ws" / "src" / "lizi" / "launch" / "generic.tvl"
+    assert count_cmd.main([str(p)]) == 0
+    assert capsys.readouterr().out.strip().splitlines()[-1] == "2304"
+    assert count_cmd.main([str(p), "--include", "Gmapping", "--exclude", "Gazebo", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    a = ModelAnalysis(parse_model(p.read_text(), str(p)).model)
+    assert data["count"] == a.count(include=["Gmapping"], exclude=["Gazebo"])
+    assert count_cmd.main([str(p), "--include", "Nope"]) == 2
+    d = tmp_path / "x.dimacs"
+    d.write_text("c 1 a\nc 2 b\np cnf 2 1\n1 2 0\n")
+    assert count_cmd.main([str(d)]) == 0
+    assert capsys.readouterr().out.strip().splitlines()[-1] == "3"
+    assert count_cmd.main([str(tmp_path / "missing.tvl")]) == 2

@@ -1,0 +1,156 @@
+"""TVL semantics of the encoder (issue 4): counts against the reference's, by hand."""
+
+from pathlib import Path
+
+import pytest
+
+from tvl_lsp.analysis.engine import ModelAnalysis
+from tvl_lsp.tvl import parse_model
+
+SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+THESIS = SHARED / "corpus" / "thesis"
+
+
+def analysis(text: str) -> ModelAnalysis:
+    res = parse_model(text, "/tmp/m.tvl")
+    assert not res.errors, [d.message for d in res.errors]
+    return ModelAnalysis(res.model)
+
+
+def count(text: str, **kw) -> int:
+    return analysis(text).count(**kw)
+
+
+def products(text: str) -> set[frozenset]:
+    a = analysis(text)
+    return {frozenset(k for k, v in p.items() if v) for p in a.enumerate(limit=None)}
+
+
+def test_oneof_with_optional_child_has_4_products():
+    text = "root R { group oneOf { A, opt B, C } }"
+    assert count(text) == 4
+    assert products(text) == {frozenset({"R"}), frozenset({"R", "A"}), frozenset({"R", "B"}),
+                              frozenset({"R", "C"})}
+
+
+def test_card_group_optional_children_win_over_the_lower_bound():
+    assert count("root R { group [2..*] { A, opt B, C } }") == 6
+    # |S| <= j still applies to optional children
+    assert count("root R { group [0..1] { opt A, opt B, opt C } }") == 4
+
+
+def test_allof_someof():
+    assert count("root R { group allOf { A, B, opt C } }") == 2
+    assert count("root R { group someOf { A, B, C } }") == 7
+    assert count("root R { group someOf { A, opt B } }") == 4  # optional: [1..*] never bites
+    assert count("root R { group oneOf { A, B, C } }") == 3
+
+
+def test_group_applies_only_when_parent_selected():
+    text = "root R { group allOf { opt P { group oneOf { A, B } } } }"
+    assert count(text) == 3  # {R}, {R,P,A}, {R,P,B}
+    assert products(text) == {frozenset({"R"}), frozenset({"R", "P", "A"}), frozenset({"R", "P", "B"})}
+
+
+def test_constraints_are_global_even_inside_optional_features():
+    text = """root R { group allOf { opt P { A || B; }, opt A, opt B } }"""
+    # A || B holds in every product, whether P is selected or not
+    assert count(text) == 6
+
+
+def test_ifin_ifout():
+    base = "root R { group allOf { opt P { %s }, opt A } }"
+    assert count(base % "ifIn: A;") == 3   # P -> A : {}, {A}, {P,A}
+    assert count(base % "ifOut: A;") == 3  # !P -> A : {A}, {P}, {P,A}
+
+
+def test_shared_feature_implies_one_of_its_parents():
+    text = """root R { group someOf { X { group allOf { opt S } }, Y { group allOf { opt shared S } } } }"""
+    a = analysis(text)
+    for p in a.enumerate(limit=None):
+        if p["S"]:
+            assert p["X"] or p["Y"]
+    # X,Y someOf: 3 ways; S possible whenever one of them: 3 * 2
+    assert a.count() == 6
+
+
+def test_bool_attributes_and_aggregates_of_listing_4_3():
+    a = ModelAnalysis(parse_model((THESIS / "models" / "example_4_3.tvl").read_text(),
+                                  str(THESIS / "models" / "example_4_3.tvl")).model)
+    assert a.count() == 20
+    assert a.dead_features() == ["J"]
+
+
+def test_bool_attribute_values_constrain_features():
+    text = """root R {
+      group allOf { opt A { bool x is true; }, opt B { bool x is false; } }
+      bool y is or(selectedChildren.x);
+      y;
+    }"""
+    assert count(text) == 2  # A must be selected: {A}, {A,B}
+
+
+def test_enum_attribute_one_hot():
+    text = """root R {
+      enum color in {red, green, blue};
+      group allOf { opt A, opt B }
+      A -> color == red;
+      B -> color != red;
+    }"""
+    # A and B can not both hold; {} {A} {B}: products are projected on features
+    assert count(text) == 3
+
+
+def test_int_attributes_sum_of_selected_children():
+    text = """root Car {
+      int price is sum(selectedChildren.price);
+      group someOf { Focus { int price is 12000; }, Saxo { int price is 13500; }, Mini { int price is 9000; } }
+      price <= 22000;
+    }"""
+    # subsets with sum <= 22000: F, S, M, F+M (21000); S+M = 22500 no
+    assert count(text) == 4
+
+
+def test_int_attribute_domain():
+    text = """root R {
+      group allOf { opt A { int n in [1..3]; }, opt B }
+      B -> A.n > 2;
+      A -> A.n < 2;
+    }"""
+    # B needs n=3, A needs n=1 (when A selected): {} {A} {B}; {A,B} impossible
+    assert count(text) == 3
+
+
+def test_real_constraint_left_out_and_reported_once():
+    text = """root R {
+      real w in [0.5..2.5];
+      group allOf { opt A, opt B }
+      A -> w > 1.5;
+    }"""
+    a = analysis(text)
+    assert a.count() == 4
+    diags = [d for d in a.anomalies() if d.code == "constraint-not-encoded"]
+    assert len(diags) == 1 and diags[0].span.start.line == 3  # 0-based: the `A -> w > 1.5` line
+
+
+@pytest.mark.parametrize("rel,expected", [
+    ("corpus/thesis/ws/src/turtlerand/launch/generic.tvl", 4),
+    ("corpus/thesis/ws/src/turtlerand/launch/generic_split.tvl", 4),
+    ("corpus/thesis/ws/src/turtlerand/launch/generic_alt.tvl", 4),
+    ("corpus/thesis/ws/src/turtlebot/launch/turtlebot.tvl", 776),
+    ("corpus/thesis/ws/src/lizi/launch/generic.tvl", 2304),
+    ("corpus/thesis/models/example_4_3.tvl", 20),
+])
+def test_thesis_counts(rel, expected):
+    p = SHARED / rel
+    a = ModelAnalysis(parse_model(p.read_text(), str(p)).model)
+    assert a.count() == expected
+    assert sum(1 for _ in a.enumerate(limit=None)) == expected
+
+
+def test_layout_does_not_change_the_cache_key():
+    a = analysis("root R { group oneOf { A, B } }")
+    b = analysis("// comment\nroot   R {\n  group oneOf {\n    A,\n    B\n  }\n}\n")
+    assert a.encoding.logical_key() == b.encoding.logical_key()
+    c = analysis("root R { group someOf { A, B } }")
+    assert c.encoding.logical_key() != a.encoding.logical_key()

@@ -1,0 +1,64 @@
+"""roslaunch's own test files and real robots' launch files vs what Debian's roslaunch 1.15 did
+(``ROSLAUNCH_RESULTS.json``): files it loads get no error; files it rejects for a reason inside
+the file get at least one."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from tvl_lsp.launch import analyse_launch, check_launch, find_packages
+
+SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+CORPUS = SHARED / "corpus" / "launch"
+
+# rejected by roslaunch for reasons outside the file: packages/files that are not in the corpus
+# (ResourceNotFound, files under /usr/share), or a command run relative to roslaunch's cwd.
+OUTSIDE = {
+    "roslaunch/resources/example-params.launch",       # $(find rosparam): /usr/share
+    "roslaunch/test/xml/test-rosparam-invalid-3.xml",  # $(find rosparam): /usr/share
+    "gazebo_ros_pkgs/gazebo_plugins/test2/spawn_model/spawn_box_param.launch",  # `cat relative/path` fails
+}
+
+
+def _results(base: Path):
+    p = base / "ROSLAUNCH_RESULTS.json"
+    if not p.exists():
+        pytest.skip(f"{p} not found")
+    return json.loads(p.read_text())
+
+
+def _check(base: Path):
+    res = _results(base)
+    pk = find_packages(str(base))
+    false_errors, missed = [], []
+    for rel, r in sorted(res.items()):
+        path = base / rel
+        if not path.exists():
+            continue
+        text = path.read_text(encoding="utf-8", errors="replace")
+        diags = check_launch(analyse_launch(text, str(path), packages=pk))
+        errors = [d for d in diags if d.severity == 1]
+        if r["ok"]:
+            if errors:
+                false_errors.append((rel, [(d.code, d.message[:120]) for d in errors[:3]]))
+        elif r["error"] not in ("ResourceNotFound", "FileNotFoundError") and rel not in OUTSIDE:
+            if not errors:
+                missed.append((rel, r["message"][:160]))
+    return res, false_errors, missed
+
+
+def test_roslaunch_own_tests():
+    res, false_errors, missed = _check(CORPUS / "roslaunch-tests")
+    assert len(res) > 100
+    assert false_errors == []
+    assert missed == []
+
+
+def test_real_robots():
+    res, false_errors, missed = _check(CORPUS)
+    assert len(res) > 200
+    assert false_errors == []
+    assert missed == []

@@ -1,0 +1,170 @@
+"""Code actions, configuration generation and the configurator commands, end to end with
+both client profiles (pytest-lsp)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import pytest
+import pytest_lsp
+from lsprotocol import types
+from pytest_lsp import LanguageClient
+
+from server_helpers import (CONFIG, PROFILES, REPO, apply_text_edits, codes, copy_ws, diagnostics,
+                            install_client_handlers, open_doc, position_of, start)
+
+
+@pytest_lsp.fixture(config=CONFIG, params=PROFILES)
+async def client(lsp_client: LanguageClient, request, tmp_path):
+    ws = copy_ws(tmp_path)
+    lsp_client.ws = ws
+    install_client_handlers(lsp_client)
+    await start(lsp_client, request.param, ws)
+    yield
+    await lsp_client.shutdown_session()
+
+
+def _change_all(client, uri, text, version):
+    client.text_document_did_change(types.DidChangeTextDocumentParams(
+        text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=version),
+        content_changes=[types.TextDocumentContentChangeWholeDocument(text=text)]))
+
+
+def _command_of(a):
+    """(name, arguments) of an action's command.  lsprotocol structures every code action
+    that carries a command as a plain Command on the client side, so accept both."""
+    if isinstance(a, types.Command):
+        return a.command, a.arguments
+    if a.command is not None:
+        return a.command.command, a.command.arguments
+    return None, None
+
+
+def _fixes(actions):
+    return [a for a in actions if isinstance(a, types.CodeAction) and a.edit is not None]
+
+
+async def _actions(client, uri, diag):
+    return await client.text_document_code_action_async(types.CodeActionParams(
+        text_document=types.TextDocumentIdentifier(uri=uri), range=diag.range,
+        context=types.CodeActionContext(diagnostics=[diag])))
+
+
+async def test_add_missing_arg_action_removes_the_diagnostic(client: LanguageClient):
+    path = client.ws / "src/turtlerand/launch/generic.launch"
+    original = path.read_text()
+    text = original.replace('  <arg name="Random"/>\n', "")
+    uri = open_doc(client, path, text)
+    diags = await diagnostics(client, uri, lambda ds: "missing-arg" in codes(ds))
+    missing = [d for d in diags if d.code == "missing-arg"]
+    assert len(missing) == 1 and "Random" in missing[0].message
+    actions = await _actions(client, uri, missing[0])
+    fix = [a for a in _fixes(actions) if a.kind == types.CodeActionKind.QuickFix and "Random" in a.title]
+    assert fix, [a.title for a in actions]
+    edits = fix[0].edit.changes[uri]
+    new_text = apply_text_edits(text, edits)
+    # inserted after the last top-level arg, with the file's indentation
+    assert '  <arg name="Teleop"/>\n  <arg name="Random"/>\n' in new_text
+    _change_all(client, uri, new_text, 2)
+    diags = await diagnostics(client, uri, lambda ds: "missing-arg" not in codes(ds))
+    assert "missing-arg" not in codes(diags)
+
+
+async def test_add_all_missing_args_at_once(client: LanguageClient):
+    path = client.ws / "src/turtlerand/launch/generic.launch"
+    text = path.read_text().replace('  <arg name="Random"/>\n', "").replace('  <arg name="Teleop"/>\n', "")
+    uri = open_doc(client, path, text)
+    diags = await diagnostics(client, uri, lambda ds: codes(ds).count("missing-arg") == 2)
+    missing = [d for d in diags if d.code == "missing-arg"]
+    assert len(missing) == 2
+    actions = await _actions(client, uri, missing[0])
+    both = [a for a in _fixes(actions) if a.title.startswith("Add all 2 missing")]
+    assert both, [a.title for a in actions]
+    new_text = apply_text_edits(text, both[0].edit.changes[uri])
+    _change_all(client, uri, new_text, 2)
+    diags = await diagnostics(client, uri, lambda ds: "missing-arg" not in codes(ds))
+    assert "missing-arg" not in codes(diags)
+
+
+EXPECTED_NODES = {
+    frozenset(): ["/Turtlesim"],
+    frozenset({"Teleop"}): ["/Teleop", "/Turtlesim"],
+    frozenset({"Random"}): ["/Random", "/Turtlesim"],
+    frozenset({"Teleop", "Random"}): ["/Multiplexer", "/Random", "/Teleop", "/Turtlesim"],
+}
+
+
+def _roslaunch_available() -> bool:
+    try:
+        return subprocess.run(["/usr/bin/python3", "-c", "import roslaunch"], capture_output=True,
+                              timeout=30).returncode == 0
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+
+
+async def test_generate_turtlerand_configurations(client: LanguageClient):
+    path = client.ws / "src/turtlerand/launch/generic.launch"
+    uri = open_doc(client, path)
+    actions = await client.text_document_code_action_async(types.CodeActionParams(
+        text_document=types.TextDocumentIdentifier(uri=uri),
+        range=types.Range(start=types.Position(line=0, character=0), end=types.Position(line=0, character=0)),
+        context=types.CodeActionContext(diagnostics=[])))
+    gen = [_command_of(a) for a in actions]
+    gen = [(c, args) for c, args in gen if c == "tvl-lsp.generateConfigurations" and args[0]["mode"] == "all"]
+    assert gen
+    res = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+        command=gen[0][0], arguments=gen[0][1]))
+    files = [Path(f) for f in res["files"]]
+    assert len(files) == 4 and all(f.is_file() for f in files)
+    assert all(f.parent == client.ws / "src/turtlerand/configs" for f in files)
+    texts = [f.read_text() for f in files]
+    assert all('<include file="$(find turtlerand)/launch/generic.launch">' in t for t in texts)
+    # deterministic: the same request names the same files
+    res2 = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+        command=gen[0][0], arguments=gen[0][1]))
+    assert res2["files"] == res["files"]
+    if not _roslaunch_available():
+        pytest.skip("Debian's roslaunch is not installed")
+    jobs = [{"file": str(f), "args": {}, "package_path": str(client.ws / "src")} for f in files]
+    out = subprocess.run(["/usr/bin/python3", str(REPO / "tests" / "launch_oracle.py")],
+                         input=json.dumps(jobs), capture_output=True, text=True, timeout=120)
+    results = json.loads(out.stdout)
+    for f, t, r in zip(files, texts, results):
+        assert r["ok"], (f, r)
+        on = frozenset(n for n in ("Teleop", "Random") if f'name="{n}" value="true"' in t)
+        assert r["nodes"] == EXPECTED_NODES[on], (f, r)
+
+
+async def test_generation_refuses_a_folder_outside_the_workspace(client: LanguageClient):
+    path = client.ws / "src/turtlerand/launch/generic.launch"
+    uri = open_doc(client, path)
+    with pytest.raises(Exception) as e:
+        await client.workspace_execute_command_async(types.ExecuteCommandParams(
+            command="tvl-lsp.generateConfigurations",
+            arguments=[{"uri": uri, "mode": "all", "folder": "../../../../outside"}]))
+    assert "outside the workspace" in str(e.value)
+    assert not (client.ws.parent / "outside").exists()
+
+
+async def test_configurator_commands(client: LanguageClient):
+    path = client.ws / "src/lizi/launch/generic.tvl"
+    uri = open_doc(client, path)
+
+    async def run(cmd, *args):
+        return await client.workspace_execute_command_async(types.ExecuteCommandParams(
+            command=cmd, arguments=[uri, *args]))
+    c = await run("tvl-lsp.count")
+    assert c["total"] == 2304 and c["remaining"] == 2304
+    r = await run("tvl-lsp.include", "Gmapping")
+    assert r["forced"].get("Move_base") is True and r["forced"].get("Lidar") is True
+    assert r["conflict"] is None and 0 < r["remaining"] < 2304
+    r2 = await run("tvl-lsp.exclude", "Lidar")
+    assert r2["conflict"] is not None and set(r2["conflict"]) == {"Gmapping", "Lidar"}
+    r3 = await run("tvl-lsp.reset", "Lidar")
+    assert r3["conflict"] is None and r3["remaining"] == r["remaining"]
+    lst = await run("tvl-lsp.listProducts", 5)
+    assert len(lst["products"]) == 5 and all("Gmapping" in p for p in lst["products"])
+    r4 = await run("tvl-lsp.reset")
+    assert r4["remaining"] == 2304

@@ -1,0 +1,205 @@
+"""Exact projected model counting with pyganak, with a time budget, cancellation and a cache.
+
+Small CNFs are counted in-process (a few milliseconds); bigger ones in a child process
+(``python -m tvl_lsp.analysis.count``) that is killed on timeout or cancellation, so a request
+never hangs the caller.  Results are cached by the logical content of the query: a hash of
+the clauses, the projection and the assumptions -- the model's layout, comments and
+whitespace do not enter it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+import threading
+import time
+from collections import OrderedDict
+from typing import Callable, Iterable, Optional, Sequence, Union
+
+# in-process below these sizes (pyganak cannot be interrupted inside a call)
+INPROCESS_MAX_VARS = 600
+INPROCESS_MAX_CLAUSES = 4000
+
+CancelLike = Union[threading.Event, Callable[[], bool], None]
+
+
+class CountTimeout(Exception):
+    """The count did not finish within its time budget."""
+
+
+class CountCancelled(Exception):
+    """The count was cancelled by the caller."""
+
+
+class _LRU:
+    def __init__(self, size: int = 4096):
+        self.size = size
+        self.data: OrderedDict[str, int] = OrderedDict()
+        self.lock = threading.Lock()
+
+    def get(self, key: str) -> Optional[int]:
+        with self.lock:
+            v = self.data.get(key)
+            if v is not None:
+                self.data.move_to_end(key)
+            return v
+
+    def put(self, key: str, value: int) -> None:
+        with self.lock:
+            self.data[key] = value
+            self.data.move_to_end(key)
+            while len(self.data) > self.size:
+                self.data.popitem(last=False)
+
+
+CACHE = _LRU()
+
+
+def query_key(base_key: str, projection_all: bool, assumptions: Iterable[int],
+              extra: Sequence[Sequence[int]] = ()) -> str:
+    h = hashlib.sha256(base_key.encode())
+    h.update(b"P" if projection_all else b"p")
+    h.update((" ".join(map(str, sorted(set(assumptions))))).encode())
+    for c in extra:
+        h.update((" ".join(map(str, c)) + ";").encode())
+    return h.hexdigest()
+
+
+def _is_cancelled(cancel: CancelLike) -> bool:
+    if cancel is None:
+        return False
+    if isinstance(cancel, threading.Event):
+        return cancel.is_set()
+    return bool(cancel())
+
+
+def _count_inprocess(nvars: int, clauses: Iterable[Sequence[int]], projection: Optional[Sequence[int]]) -> int:
+    import pyganak
+    c = pyganak.Counter()
+    if nvars:
+        c.new_vars(nvars)
+    for cl in clauses:
+        if not cl:
+            return 0
+        c.add_clause(cl)
+    if projection is not None:
+        if not projection:
+            # nothing to count: 1 if satisfiable, 0 otherwise
+            c.set_sampling_set([1])
+            return 1 if c.count() > 0 else 0
+        c.set_sampling_set(list(projection))
+    return int(c.count())
+
+
+def _dimacs(nvars: int, clauses: Iterable[Sequence[int]], projection: Optional[Sequence[int]]) -> bytes:
+    parts = []
+    cls = list(clauses)
+    parts.append(f"p cnf {nvars} {len(cls)}\n")
+    if projection is not None:
+        parts.append("c p show " + " ".join(map(str, projection)) + " 0\n")
+    for c in cls:
+        parts.append(" ".join(map(str, c)) + " 0\n")
+    return "".join(parts).encode()
+
+
+def _count_subprocess(nvars, clauses, projection, timeout: Optional[float], cancel: CancelLike) -> int:
+    data = _dimacs(nvars, clauses, projection)
+    env = dict(os.environ)
+    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp.analysis.count"], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env)
+    out: list[bytes] = []
+
+    def feed():
+        try:
+            proc.stdin.write(data)
+            proc.stdin.close()
+        except (BrokenPipeError, OSError):
+            pass
+
+    def read():
+        try:
+            out.append(proc.stdout.read())
+        except (OSError, ValueError):
+            pass
+
+    tw = threading.Thread(target=feed, daemon=True)
+    tr = threading.Thread(target=read, daemon=True)
+    tw.start()
+    tr.start()
+    start = time.monotonic()
+    try:
+        while True:
+            try:
+                proc.wait(timeout=0.02)
+                break
+            except subprocess.TimeoutExpired:
+                pass
+            if _is_cancelled(cancel):
+                raise CountCancelled()
+            if timeout is not None and time.monotonic() - start > timeout:
+                raise CountTimeout(f"no answer within {timeout:g} s")
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    tr.join(5)
+    text = (out[0] if out else b"").decode().strip()
+    if proc.returncode != 0 or not text:
+        raise RuntimeError(f"the counter failed (exit code {proc.returncode})")
+    return int(text.split()[-1])
+
+
+def count_cnf(nvars: int, clauses: Sequence[Sequence[int]], projection: Optional[Sequence[int]] = None,
+              timeout: Optional[float] = None, cancel: CancelLike = None, key: Optional[str] = None,
+              inprocess: Optional[bool] = None) -> int:
+    """Number of assignments of ``projection`` (None: all variables) that extend to a model.
+
+    Raises :class:`CountTimeout` / :class:`CountCancelled`."""
+    if key is not None:
+        got = CACHE.get(key)
+        if got is not None:
+            return got
+    if _is_cancelled(cancel):
+        raise CountCancelled()
+    if inprocess is None:
+        inprocess = nvars <= INPROCESS_MAX_VARS and len(clauses) <= INPROCESS_MAX_CLAUSES
+    if inprocess:
+        n = _count_inprocess(nvars, clauses, projection)
+    else:
+        n = _count_subprocess(nvars, clauses, projection, timeout, cancel)
+    if key is not None:
+        CACHE.put(key, n)
+    return n
+
+
+def _worker_main() -> int:
+    """Read a DIMACS CNF (``c p show ... 0`` for the projection) on stdin, print the count."""
+    nvars = 0
+    clauses: list[list[int]] = []
+    projection = None
+    cur: list[int] = []
+    for line in sys.stdin.buffer.read().decode().splitlines():
+        if not line or line[0] == "c":
+            if line.startswith("c p show"):
+                projection = [int(x) for x in line.split()[3:] if x != "0"]
+            continue
+        if line[0] == "p":
+            nvars = int(line.split()[2])
+            continue
+        for tok in line.split():
+            x = int(tok)
+            if x == 0:
+                clauses.append(cur)
+                cur = []
+            else:
+                cur.append(x)
+    n = _count_inprocess(nvars, clauses, projection)
+    sys.stdout.write(f"{n}\n")
+    sys.stdout.flush()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(_worker_main())

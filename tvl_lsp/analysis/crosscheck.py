@@ -1,0 +1,476 @@
+"""Cross-file, variability-aware checks of a launch file against the model that configures it.
+
+Pure: no LSP here.  Entry point::
+
+    cross_check(launch: LaunchAnalysis, model: Model | None, encoding: Encoding | None = None,
+                *, launch_text: str | None = None, model_path: str | None = None) -> list[Diagnostic]
+
+It returns the diagnostics *of the launch file* for this pairing (the model's own diagnostics
+are the model's, see :func:`tvl_lsp.check.check_model`):
+
+- ``missing-arg``: a feature with no top-level ``<arg>`` (on the ``<launch>`` start tag; related:
+  the feature; ``data = {"feature": NAME}``; a fix inserting ``<arg name="NAME"/>``);
+- ``unmatched-arg``: a top-level ``<arg>`` naming no feature (the closest feature suggested);
+- every load-time error fact of the launch front end (``undefined-arg``, ``duplicate-arg``,
+  ``unset-arg``, ``invalid-condition``, ``duplicate-node``, ...) whose condition holds in some
+  product of the model, with a witness; facts no product can trigger are dropped;
+- ``dead-element``: an element that no product loads (only the topmost of a dead subtree);
+- ``constant-condition``: an ``if`` / ``unless`` with the same value in every product where it is
+  evaluated (i.e. where the element's parent is loaded); not reported inside dead elements.
+
+Feature args map to features by name (a feature's short name, or its long name when the short
+one is ambiguous).  Args that name no feature — and every arg of a launch file without a
+model — are free booleans.  A *witness* is a product with the fewest selected features (free
+args counted too) in which the problem shows, given as name -> bool over every feature and free
+top-level arg, ready to be passed to roslaunch as ``name:=true|false``.
+
+The SAT questions go to :class:`PairLogic`: one incremental solver per pairing over the model's
+CNF (``tvl_lsp.analysis.encode``) plus a Tseitin encoding of each queried formula behind an
+activation literal, and a totalizer over the product variables for the smallest witness.  A
+fresh PairLogic per pairing keeps the answers independent of what was asked before, so the
+output is the same whether files are checked serially or in parallel.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+from typing import Iterable, Optional
+
+from pysat.card import ITotalizer
+from pysat.solvers import Solver
+
+from ..diagnostics import Diagnostic, Fix, Related, Severity, TextEdit, register
+from ..text import LineIndex, Pos, Span
+from . import formula as fm
+
+MISSING_ARG = register(
+    "missing-arg", Severity.WARNING,
+    "A feature of the model has no top-level <arg> in the launch file it configures.", "cross")
+UNMATCHED_ARG = register(
+    "unmatched-arg", Severity.WARNING,
+    "A top-level <arg> of a generic launch file names no feature of its model.", "cross")
+DEAD_ELEMENT = register(
+    "dead-element", Severity.WARNING,
+    "An element of the launch file is loaded by no product of the model.", "cross")
+CONSTANT_CONDITION = register(
+    "constant-condition", Severity.INFORMATION,
+    "An if/unless condition has the same value in every product where it is evaluated.", "cross")
+
+SOLVER = "glucose4"
+_ARG_REF = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
+_STRINGY = re.compile(r"""(==|!=|\bin\b)\s*['"\[]|['"]\s*(==|!=)""")
+_EVAL_ARG_REF = re.compile(r"arg\(\s*['\"]([^'\"]+)['\"]\s*\)")
+MAX_COND_TEXT = 160
+
+
+# ------------------------------------------------------------------ logic
+
+class PairLogic:
+    """SAT over (model CNF ∧ formula) where formulas are over arg / feature names.
+
+    ``encoding`` is the model's :class:`~tvl_lsp.analysis.encode.Encoding` (None: no model,
+    every name is a free boolean).  ``free_names`` are names that must appear in witnesses
+    even when no formula mentions them (the launch file's free top-level args).
+    """
+
+    def __init__(self, encoding=None, free_names: Iterable[str] = ()):
+        self.enc = encoding
+        self.solver = Solver(name=SOLVER, bootstrap_with=encoding.clauses() if encoding is not None else [])
+        self.top = encoding.nvars if encoding is not None else 0
+        self.var_of: dict[str, int] = {}
+        self.names: list[tuple[str, int]] = []  # witness names in order
+        if encoding is not None:
+            for f in encoding.features:
+                v = encoding.var_of_feature[f]
+                name = encoding.name_of(f)
+                self.var_of[name] = v
+                self.names.append((name, v))
+        for n in free_names:
+            self._var(n)
+        self._tot: Optional[ITotalizer] = None
+        self._tot_size = 0
+        self._cache: dict[fm.Formula, int] = {}
+        self._void: Optional[bool] = None
+
+    def close(self) -> None:
+        if self._tot is not None:
+            self._tot.delete()
+            self._tot = None
+        self.solver.delete()
+
+    def _new(self) -> int:
+        self.top += 1
+        return self.top
+
+    def _var(self, name: str) -> int:
+        v = self.var_of.get(name)
+        if v is None and self.enc is not None:
+            f = self.enc.feature_by_name(name)
+            if f is not None:
+                v = self.enc.var_of_feature[f]
+                self.var_of[name] = v
+                return v
+        if v is None:
+            v = self._new()
+            self.var_of[name] = v
+            self.names.append((name, v))
+        return v
+
+    def _lit(self, f: fm.Formula):
+        """Tseitin: a literal equivalent to ``f`` (definitions added as hard clauses)."""
+        if isinstance(f, fm.Const):
+            return f.value
+        if isinstance(f, fm.Var):
+            return self._var(f.name)
+        if isinstance(f, fm.Not):
+            x = self._lit(f.arg)
+            return (not x) if isinstance(x, bool) else -x
+        hit = self._cache.get(f)
+        if hit is not None:
+            return hit
+        lits = [self._lit(a) for a in f.args]
+        if isinstance(f, fm.And):
+            if any(x is False for x in lits):
+                return False
+            lits = [x for x in lits if x is not True]
+            if not lits:
+                return True
+            if len(lits) == 1:
+                return lits[0]
+            y = self._new()
+            for x in lits:
+                self.solver.add_clause([-y, x])
+            self.solver.add_clause([y] + [-x for x in lits])
+        else:
+            if any(x is True for x in lits):
+                return True
+            lits = [x for x in lits if x is not False]
+            if not lits:
+                return False
+            if len(lits) == 1:
+                return lits[0]
+            y = self._new()
+            for x in lits:
+                self.solver.add_clause([y, -x])
+            self.solver.add_clause([-y] + lits)
+        self._cache[f] = y
+        return y
+
+    def _assume(self, f: fm.Formula) -> Optional[list[int]]:
+        """Assumptions asserting f; None when f is constant false."""
+        x = self._lit(f)
+        if x is False:
+            return None
+        return [] if x is True else [x]
+
+    def void(self) -> bool:
+        if self._void is None:
+            self._void = not self.solver.solve()
+        return self._void
+
+    def sat(self, f: fm.Formula) -> bool:
+        a = self._assume(f)
+        return a is not None and self.solver.solve(assumptions=a)
+
+    def valid(self, f: fm.Formula) -> bool:
+        """f holds in every product (vacuously true for a void model)."""
+        return not self.sat(fm.neg(f))
+
+    def witness(self, f: fm.Formula) -> Optional[dict[str, bool]]:
+        """A product satisfying f with the fewest selected features (and free args)."""
+        a = self._assume(f)
+        if a is None or not self.solver.solve(assumptions=a):
+            return None
+        # names created by f itself must be counted too: rebuild the totalizer when they grew
+        lits = [v for _, v in self.names]
+        if self._tot is None or self._tot_size != len(lits):
+            if self._tot is not None:
+                self._tot.delete()
+            self._tot = ITotalizer(lits=lits, ubound=len(lits), top_id=self.top)
+            self.top = self._tot.top_id
+            for c in self._tot.cnf.clauses:
+                self.solver.add_clause(c)
+            self._tot_size = len(lits)
+            self.solver.solve(assumptions=a)
+        def on(m: list[int], v: int) -> bool:
+            return v <= len(m) and m[v - 1] > 0
+
+        best = self.solver.get_model() or []
+        count = sum(1 for v in lits if on(best, v))
+        rhs = self._tot.rhs
+        while count > 0:
+            # at most count-1 selected: rhs[count-1] false
+            if not self.solver.solve(assumptions=a + [-rhs[count - 1]]):
+                break
+            best = self.solver.get_model() or []
+            count = sum(1 for v in lits if on(best, v))
+        return {name: on(best, v) for name, v in self.names}
+
+
+# ------------------------------------------------------------------ helpers
+
+def _cond_text(f: fm.Formula) -> str:
+    s = str(f)
+    return s if len(s) <= MAX_COND_TEXT else s[: MAX_COND_TEXT - 1] + "…"
+
+
+def _selected(w: dict[str, bool]) -> str:
+    on = [k for k, v in w.items() if v]
+    return "{" + ", ".join(on) + "}" if on else "{} (nothing selected)"
+
+
+def _closest(name: str, candidates: list[str]) -> Optional[str]:
+    if not candidates:
+        return None
+    low = {c.lower(): c for c in candidates}
+    if name.lower() in low:
+        return low[name.lower()]
+    m = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
+    if m:
+        return m[0]
+    m = difflib.get_close_matches(name.lower(), list(low), n=1, cutoff=0.6)
+    return low[m[0]] if m else None
+
+
+def _start_tag(e) -> Span:
+    return e.tag_span or e.span
+
+
+def _has_cond(e) -> bool:
+    return "if" in e.attrs or "unless" in e.attrs
+
+
+def _describe_element(e) -> str:
+    name = e.attrs.get("name")
+    if name is not None:
+        return f'<{e.tag} name="{name.value}">'
+    f = e.attrs.get("file")
+    if f is not None:
+        return f'<{e.tag} file="{f.value}">'
+    return f"<{e.tag}>"
+
+
+def _insert_arg_fix(launch, text: Optional[str], feature: str) -> list[Fix]:
+    if text is None or launch.root is None:
+        return []
+    idx = LineIndex(text)
+    top_args = [c for c in launch.root.children if c.tag == "arg"]
+    if top_args:
+        after = top_args[-1].span.end
+        line_text = idx.line_text(top_args[-1].span.start.line)
+        indent = line_text[: len(line_text) - len(line_text.lstrip())]
+    else:
+        after = _start_tag(launch.root).end
+        indent = "  "
+    edit = TextEdit(launch.path, Span(after, after), f'\n{indent}<arg name="{feature}"/>')
+    return [Fix(f'Add <arg name="{feature}"/>', (edit,), preferred=True)]
+
+
+# ------------------------------------------------------------------ the check
+
+def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str] = None,
+                model_path: Optional[str] = None, logic: Optional[PairLogic] = None) -> list[Diagnostic]:
+    """Diagnostics of ``launch`` (a LaunchAnalysis) paired with ``model`` (or alone)."""
+    out: list[Diagnostic] = []
+    path = launch.path
+    model_name = None
+    if model is not None:
+        import os
+        model_name = os.path.basename(model_path or model.path)
+        if encoding is None:
+            from .encode import encode
+            encoding = encode(model)
+
+    feature_args = list(launch.feature_args)
+    matched: dict[str, object] = {}     # arg name -> feature
+    free: list[str] = []                # feature args naming no feature (free booleans)
+    free_args = list(getattr(launch, "free_args", None) or [])
+
+    if model is not None and encoding is not None:
+        features = list(encoding.features)
+        by_arg = {}
+        for a in feature_args:
+            f = encoding.feature_by_name(a.name)
+            if f is not None and a.name not in by_arg:
+                by_arg[a.name] = f
+        matched = by_arg
+        matched_features = set(id(f) for f in by_arg.values())
+        unmatched_feature_names = [encoding.name_of(f) for f in features if id(f) not in matched_features]
+        all_feature_names = [encoding.name_of(f) for f in features]
+        for a in feature_args:
+            if a.name in by_arg:
+                continue
+            sug = _closest(a.name, unmatched_feature_names) or _closest(a.name, all_feature_names)
+            msg = f"arg `{a.name}` names no feature of {model_name}"
+            fixes = []
+            if sug:
+                msg += f"; did you mean `{sug}`?"
+                fixes = [Fix(f"Rename to `{sug}`", (TextEdit(path, a.name_span, sug),), preferred=True)]
+            else:
+                msg += " (in a generic launch file the top-level args are exactly the features; "\
+                       "move other args into a <group>)"
+            out.append(Diagnostic(UNMATCHED_ARG, Severity.WARNING, path, a.name_span, msg,
+                                  data={"arg": a.name, "suggestion": sug}, fixes=fixes))
+        root_span = _start_tag(launch.root) if launch.root is not None else Span(Pos(0, 0), Pos(0, 0))
+        for f in features:
+            if id(f) in matched_features:
+                continue
+            name = encoding.name_of(f)
+            out.append(Diagnostic(
+                MISSING_ARG, Severity.WARNING, path, root_span,
+                f"feature `{name}` of {model_name} has no top-level <arg name=\"{f.name}\"/>: "
+                f"configurations cannot select or deselect it",
+                related=[Related(f.path, f.name_span, f"feature `{name}` is declared here")],
+                data={"feature": f.name}, fixes=_insert_arg_fix(launch, launch_text, f.name)))
+    if model is not None and encoding is not None:
+        free = [n for n in free_args if encoding.feature_by_name(n) is None]
+    else:
+        free = free_args
+
+    own_logic = logic is None
+    if logic is None:
+        logic = PairLogic(encoding if model is not None else None, free)
+    try:
+        if model is not None and logic.void():
+            # a void model has no product: the model reports void-model; nothing else is true
+            return out
+        out += _facts(launch, logic, model_name)
+        out += _dead_and_constant(launch, logic, model_name, model is not None)
+    finally:
+        if own_logic:
+            logic.close()
+    return out
+
+
+def _when(cond: fm.Formula, witness: dict[str, bool]) -> str:
+    if cond == fm.TRUE:
+        return f" (in every product; e.g. {_selected(witness)})"
+    return f" (when {_cond_text(cond)}; e.g. in the product {_selected(witness)})"
+
+
+def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnostic]:
+    out = []
+    for fact in launch.facts:
+        w = logic.witness(fact.condition)
+        if w is None:
+            continue
+        related = [r if isinstance(r, Related) else Related(r[0], r[1], r[2]) for r in fact.related]
+        out.append(Diagnostic(fact.code, fact.severity, fact.path, fact.span,
+                              fact.message + _when(fact.condition, w), related=related, witness=w,
+                              data={"condition": str(fact.condition)}))
+    return out
+
+
+def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], modelled: bool) -> list[Diagnostic]:
+    out: list[Diagnostic] = []
+    root = launch.root
+    if root is None:
+        return out
+    enc = logic.enc
+
+    def feature_related(cond: fm.Formula) -> list[Related]:
+        if enc is None:
+            return []
+        out = []
+        for name in sorted(fm.variables(cond))[:6]:
+            f = enc.feature_by_name(name)
+            if f is not None:
+                out.append(Related(f.path, f.name_span, f"feature `{name}` is declared here"))
+        return out
+
+    # spans of load-time problems (and untranslatable conditions) in this file: an element whose
+    # if/unless value has one is not "dead" or "constant" -- roslaunch fails on it, or we cannot tell
+    trouble = [f.span for f in launch.facts if f.path == launch.path]
+
+    # args a user can set on the command line although they are not free booleans here: a
+    # declaration with a default (roslaunch lets the command line override it).  A condition
+    # that reads one of them is only "dead" / "constant" for its default value: not reported.
+    free_set = set(getattr(launch, "free_args", None) or ())
+    overridable = {e.attrs["name"].value for e in launch.elements
+                   if e.tag == "arg" and "name" in e.attrs and "default" in e.attrs and "value" not in e.attrs
+                   and e.path == launch.path} - free_set
+
+    def reads(value: str) -> set[str]:
+        names = set(_ARG_REF.findall(value)) | set(_EVAL_ARG_REF.findall(value))
+        if "$(eval" in value:
+            names |= set(re.findall(r"[A-Za-z_]\w*", value))
+        return names
+
+    def reads_overridable(value: str) -> bool:
+        return bool(reads(value) & overridable)
+
+    # an arg whose value is computed from an overridable one is as good as overridable
+    computed = [(e.attrs["name"].value, e.attrs["value"].value) for e in launch.elements
+                if e.tag == "arg" and "name" in e.attrs and "value" in e.attrs and e.path == launch.path]
+    grew = True
+    while grew:
+        grew = False
+        for name, value in computed:
+            if name not in overridable and name not in free_set and reads_overridable(value):
+                overridable.add(name)
+                grew = True
+
+    def troubled(e) -> bool:
+        for key in ("if", "unless"):
+            a = e.attrs.get(key)
+            if a is None:
+                continue
+            if reads_overridable(a.value):
+                return True
+            if not modelled and "$(eval" in a.value and _STRINGY.search(a.value):
+                return True  # free args are booleans; a string comparison means they are not
+            if any(w in a.value for w in ("$(env", "$(optenv", "$(find", "$(anon", "$(dirname")):
+                return True
+            vs = a.value_span
+            if any(vs.start <= s.start and s.end <= vs.end for s in trouble):
+                return True
+            st = _start_tag(e)
+            if any(s == st for s in trouble):
+                return True
+        return False
+
+    def visit(e, parent) -> None:
+        if getattr(e, "include_depth", 0) != 0 or e.path != launch.path:
+            return
+        if parent is not None and _has_cond(e) and troubled(e):
+            return
+        cond = e.condition
+        if not logic.sat(cond):
+            if parent is not None and _has_cond(e) and logic.sat(parent.condition):
+                attr = e.attrs.get("if") or e.attrs.get("unless")
+                if modelled:
+                    why = (f"no product of {model_name} satisfies its condition {_cond_text(cond)}"
+                           if cond != fm.FALSE else f"its condition is false in every product of {model_name}")
+                else:
+                    why = (f"its condition {_cond_text(cond)} holds for no values of the file's args"
+                           if cond != fm.FALSE else "its condition is false whatever the file's args")
+                out.append(Diagnostic(
+                    DEAD_ELEMENT, Severity.WARNING, e.path, _start_tag(e),
+                    f'{_describe_element(e)} is never loaded: {why} ({attr.name}="{attr.value}")',
+                    related=feature_related(cond), data={"condition": str(cond)}))
+            return
+        if parent is not None and _has_cond(e):
+            pc = parent.condition
+            if logic.valid(fm.implies(pc, cond)):
+                for key in ("if", "unless"):
+                    attr = e.attrs.get(key)
+                    if attr is None:
+                        continue
+                    value = "true" if key == "if" else "false"
+                    everywhere = pc == fm.TRUE or logic.valid(pc)
+                    if modelled:
+                        scope = f"in every product of {model_name}" + ("" if everywhere else " that loads its parent")
+                    else:
+                        scope = "whatever the file's args" + ("" if everywhere else " wherever its parent is loaded")
+                    eff = "always loads" if key == "if" else "never skips"
+                    out.append(Diagnostic(
+                        CONSTANT_CONDITION, Severity.INFORMATION, e.path, attr.value_span,
+                        f'{key}="{attr.value}" is always {value} {scope}: it {eff} '
+                        f"{_describe_element(e)}, so the condition can be removed",
+                        related=feature_related(cond), data={"condition": str(cond), "value": key == "if"}))
+        for c in e.children:
+            visit(c, e)
+
+    visit(root, None)
+    return out

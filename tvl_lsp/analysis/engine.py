@@ -1,0 +1,288 @@
+"""The one facade the CLI, the cross-file checks and the server call.
+
+    a = ModelAnalysis(model)                 # or ModelAnalysis.from_dimacs(text, path)
+    a.is_void()
+    a.anomalies(time_budget=10.0)            # -> list[Diagnostic]
+    a.count(include=("Kobuki",), exclude=(), formula=None, timeout=None, cancel=None)  # -> int
+    a.feature_counts()                       # -> {feature name: number of products with it}
+    a.find_product(formula, include, exclude, smallest=True)  # -> {name: bool} | None
+    a.propagate({"Kobuki": True, "Teleop": False})            # -> Propagation
+    for product in a.enumerate(limit=100): ...                # -> {name: bool}
+
+Feature names are the short names when unique, else the long names ("Root.A.B"), as
+:meth:`Encoding.feature_by_name` resolves them.  Counts are Python ints.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Iterable, Iterator, Mapping, Optional
+
+from pysat.solvers import Solver
+
+from ..diagnostics import Diagnostic, Related, Severity, register
+from ..tvl import model as M
+from . import formula as fm
+from .count import CACHE, CancelLike, CountTimeout, count_cnf, query_key
+from .encode import Element, Encoding, encode
+from .solve import SOLVER, Analyzer, Explanation
+
+VOID_MODEL = register("void-model", Severity.ERROR,
+                      "the feature model has no product: no selection of features satisfies it", "analysis")
+DEAD_FEATURE = register("dead-feature", Severity.WARNING,
+                        "a feature that no product can select", "analysis")
+FALSE_OPTIONAL = register("false-optional", Severity.WARNING,
+                          "an optional feature that is selected in every product that selects its parent",
+                          "analysis")
+REDUNDANT_CONSTRAINT = register("redundant-constraint", Severity.INFORMATION,
+                                "a constraint already implied by the rest of the model", "analysis")
+ALWAYS_FALSE_CONSTRAINT = register("always-false-constraint", Severity.ERROR,
+                                   "a constraint that no selection of features allowed by the feature "
+                                   "tree satisfies", "analysis")
+
+
+class ModelAnalysis:
+    def __init__(self, model: M.Model, encoding: Optional[Encoding] = None):
+        self.model = model
+        self._enc = encoding
+        self._an: Optional[Analyzer] = None
+
+    @classmethod
+    def from_dimacs(cls, text: str, path: str = "model.dimacs") -> "ModelAnalysis":
+        from .dimacs import dimacs_to_model
+        return cls(dimacs_to_model(text, path))
+
+    # ------------------------------------------------------------------ basics
+    @property
+    def encoding(self) -> Encoding:
+        if self._enc is None:
+            self._enc = encode(self.model)
+        return self._enc
+
+    @property
+    def analyzer(self) -> Analyzer:
+        if self._an is None:
+            self._an = Analyzer(self.encoding)
+        return self._an
+
+    def name(self, f: M.Feature) -> str:
+        return self.encoding.name_of(f)
+
+    def _lits(self, include: Iterable[str] = (), exclude: Iterable[str] = ()) -> list[int]:
+        enc = self.encoding
+        return [enc.var(n) for n in include] + [-enc.var(n) for n in exclude]
+
+    def _product(self, model: list[int]) -> dict[str, bool]:
+        enc = self.encoding
+        return {self.name(f): model[v - 1] > 0 for f, v in enc.var_of_feature.items()}
+
+    def is_void(self) -> bool:
+        return self.analyzer.is_void()
+
+    def core_features(self) -> list[str]:
+        return [self.name(f) for f in self.analyzer.core()]
+
+    def dead_features(self) -> list[str]:
+        return [self.name(f) for f in self.analyzer.dead()]
+
+    def false_optional_features(self) -> list[str]:
+        return [self.name(f) for f, _ in self.analyzer.false_optional()]
+
+    def explain(self, include: Iterable[str] = (), exclude: Iterable[str] = (),
+                formula: Optional[fm.Formula] = None) -> Optional[list[Element]]:
+        """The minimal set of model elements that forbids the given partial configuration
+        (and formula); None when some product allows it."""
+        an = self.analyzer
+        extra = self._lits(include, exclude)
+        if formula is not None:
+            an.selector_solver  # selectors numbered first
+            top = self.encoding.nvars + len(self.encoding.elements) + 1
+            cls, top2 = self.encoding.formula_clauses(formula, top)
+            g = top2 + 1  # guard: the formula's clauses only hold under g
+            for c in cls:
+                an.selector_solver.add_clause(c + [-g])
+            extra.append(g)
+        ex = an.explain(extra)
+        return ex.elements if ex else None
+
+    # ------------------------------------------------------------------ anomalies
+    def anomalies(self, time_budget: Optional[float] = 10.0) -> list[Diagnostic]:
+        enc = self.encoding
+        an = self.analyzer
+        start = time.monotonic()
+        deadline = None if time_budget is None else start + time_budget
+        out: list[Diagnostic] = list(enc.diagnostics())
+
+        def related(ex: Optional[Explanation]) -> list[Related]:
+            if ex is None:
+                return []
+            return [Related(e.path, e.span, e.label) for e in ex.elements]
+
+        def because(ex: Optional[Explanation]) -> str:
+            if ex is None:
+                return " (no explanation: the time budget ran out)"
+            labels = [e.label for e in ex.elements]
+            s = "; ".join(labels[:4]) + ("; …" if len(labels) > 4 else "")
+            return f" Because: {s}." if labels else ""
+
+        def explain(extra, among=None) -> Optional[Explanation]:
+            if deadline is not None and time.monotonic() > deadline:
+                return None
+            return an.explain(extra, deadline=deadline, among=among)
+
+        root = self.model.root
+        if an.is_void():
+            ex = explain([])
+            rpath = root.path if root else self.model.path
+            rspan = root.name_span if root else None
+            from ..text import ZERO_SPAN
+            out.append(Diagnostic(VOID_MODEL, Severity.ERROR, rpath, rspan or ZERO_SPAN,
+                                  "This feature model has no product: no selection of features satisfies it."
+                                  + because(ex), related=related(ex)))
+            _, always_false = an.redundant_and_always_false(deadline=deadline)
+            for e in always_false:
+                structure = [x.selector for x in enc.elements if x.kind != "constraint"]
+                ex = explain([], among=structure + [e.selector])
+                out.append(Diagnostic(ALWAYS_FALSE_CONSTRAINT, Severity.ERROR, e.path, e.span,
+                                      "This constraint can never hold with the feature tree." + because(ex),
+                                      related=related(ex)))
+            return out
+        v = enc.var_of_feature
+        for f in an.dead():
+            ex = explain([v[f]])
+            out.append(Diagnostic(DEAD_FEATURE, Severity.WARNING, f.path, f.name_span,
+                                  f"Feature {self.name(f)} is dead: no product can select it." + because(ex),
+                                  related=related(ex), data={"feature": self.name(f)}))
+        for f, p in an.false_optional():
+            ex = explain([v[p], -v[f]])
+            out.append(Diagnostic(FALSE_OPTIONAL, Severity.WARNING, f.path, f.name_span,
+                                  f"Feature {self.name(f)} is declared optional but every product that "
+                                  f"selects {self.name(p)} also selects it." + because(ex),
+                                  related=related(ex), data={"feature": self.name(f), "parent": self.name(p)}))
+        redundant, _ = an.redundant_and_always_false(deadline=deadline)
+        allsel = [e.selector for e in enc.elements]
+        for e in redundant:
+            ex = explain([x for x in (e.negation or []) if x is not True],
+                         among=[x for x in allsel if x != e.selector])
+            out.append(Diagnostic(REDUNDANT_CONSTRAINT, Severity.INFORMATION, e.path, e.span,
+                                  "This constraint is redundant: the rest of the model already implies it."
+                                  + because(ex), related=related(ex)))
+        return out
+
+    # ------------------------------------------------------------------ counting
+    def count(self, include: Iterable[str] = (), exclude: Iterable[str] = (),
+              formula: Optional[fm.Formula] = None, timeout: Optional[float] = None,
+              cancel: CancelLike = None) -> int:
+        """Exact number of products (feature selections) with the included features, without
+        the excluded ones, and satisfying ``formula`` (over feature names).
+        Raises CountTimeout / CountCancelled."""
+        enc = self.encoding
+        assumptions = self._lits(include, exclude)
+        extra: list[list[int]] = []
+        top = enc.nvars
+        if formula is not None:
+            extra, top = enc.formula_clauses(formula)
+        key = query_key(enc.logical_key(), True, assumptions, extra)
+        got = CACHE.get(key)
+        if got is not None:
+            return got
+        clauses = enc.clauses() + [[x] for x in assumptions] + extra
+        projection = None if top == enc.n_features else enc.projection
+        return count_cnf(top, clauses, projection, timeout=timeout, cancel=cancel, key=key)
+
+    def feature_counts(self, timeout: Optional[float] = None,
+                       cancel: CancelLike = None) -> dict[str, int]:
+        """Number of products containing each feature (dead: 0, core: the total).  With a
+        timeout, features not counted in time are left out of the result."""
+        start = time.monotonic()
+        out: dict[str, int] = {}
+        if self.is_void():
+            return {self.name(f): 0 for f in self.encoding.features}
+        bb = self.analyzer.backbone()
+        total = None
+        for f, v in self.encoding.var_of_feature.items():
+            left = None if timeout is None else timeout - (time.monotonic() - start)
+            if left is not None and left <= 0:
+                break
+            try:
+                if bb.get(v) is False:
+                    out[self.name(f)] = 0
+                elif bb.get(v) is True:
+                    if total is None:
+                        total = self.count(timeout=left, cancel=cancel)
+                    out[self.name(f)] = total
+                else:
+                    out[self.name(f)] = self.count(include=[self.name(f)], timeout=left, cancel=cancel)
+            except CountTimeout:
+                break
+        return out
+
+    # ------------------------------------------------------------------ products
+    def _solver(self, include=(), exclude=(), formula: Optional[fm.Formula] = None):
+        enc = self.encoding
+        s = Solver(name=SOLVER, bootstrap_with=enc.clauses())
+        for x in self._lits(include, exclude):
+            s.add_clause([x])
+        if formula is not None:
+            cls, _ = enc.formula_clauses(formula)
+            for c in cls:
+                s.add_clause(c)
+        return s
+
+    def enumerate(self, limit: Optional[int] = 100, include: Iterable[str] = (), exclude: Iterable[str] = (),
+                  formula: Optional[fm.Formula] = None) -> Iterator[dict[str, bool]]:
+        """Products one by one (each a {feature name: selected} dict), at most ``limit``."""
+        s = self._solver(include, exclude, formula)
+        n = self.encoding.n_features
+        k = 0
+        try:
+            while limit is None or k < limit:
+                if not s.solve():
+                    return
+                m = s.get_model()
+                yield self._product(m)
+                k += 1
+                s.add_clause([-x for x in m[:n]])
+        finally:
+            s.delete()
+
+    def find_product(self, formula: Optional[fm.Formula] = None, include: Iterable[str] = (),
+                     exclude: Iterable[str] = (), smallest: bool = True) -> Optional[dict[str, bool]]:
+        """A product satisfying the formula and the partial configuration (the one with the
+        fewest selected features when ``smallest``), or None when there is none."""
+        enc = self.encoding
+        s = self._solver(include, exclude, formula)
+        try:
+            if not s.solve():
+                return None
+            if not smallest:
+                return self._product(s.get_model())
+        finally:
+            s.delete()
+        from pysat.examples.rc2 import RC2
+        from pysat.formula import WCNF
+        w = WCNF()
+        for c in enc.clauses():
+            w.append(c)
+        for x in self._lits(include, exclude):
+            w.append([x])
+        if formula is not None:
+            for c in enc.formula_clauses(formula)[0]:
+                w.append(c)
+        for v in range(1, enc.n_features + 1):
+            w.append([-v], weight=1)
+        with RC2(w, solver=SOLVER) as rc2:
+            m = rc2.compute()
+        if m is None:
+            return None
+        full = [0] * enc.n_features
+        for x in m:
+            if 0 < abs(x) <= enc.n_features:
+                full[abs(x) - 1] = x
+        return self._product(full)
+
+    # ------------------------------------------------------------------ configuration
+    def propagate(self, decisions: Mapping[str, bool], count: bool = True,
+                  timeout: Optional[float] = 5.0):
+        from .configure import propagate
+        return propagate(self, decisions, count=count, timeout=timeout)

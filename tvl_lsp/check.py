@@ -1,0 +1,428 @@
+"""The check pipeline shared by ``tvl-lsp --check`` and the language server.
+
+Pure: no LSP here; files are read through ``read_file(path) -> str | None`` callbacks.
+
+    check_paths(paths, read_file=None, jobs=None) -> list[Diagnostic]
+        Discover ``.tvl``, ``.launch``, ``.launch.xml`` and HAROS project files under ``paths``
+        (files or folders), pair launch files with models (see :mod:`tvl_lsp.workspace`),
+        analyse everything and return every diagnostic, deduplicated and sorted.  Large trees
+        are analysed in parallel processes (``jobs``: None = one per CPU, 1 = serially); the
+        output does not depend on ``jobs``.  With a custom ``read_file`` the work stays in this
+        process (callbacks do not cross process boundaries).
+
+    check_document(path, text=None, read_file=None, roots=None, timeout=None, workspace=None)
+        -> list[Diagnostic]
+        Every diagnostic of ONE document, for the server: a model gets its parse diagnostics
+        and anomalies; a launch file gets its own load-time diagnostics, its pairing's marker
+        problems and the cross-checks against each model it is paired with (or alone); a
+        HAROS project file gets its YAML / missing-file diagnostics.  ``text`` is the current
+        (possibly unsaved) content; ``roots`` are the workspace folders (default: found from
+        ``path`` by :func:`tvl_lsp.workspace.find_workspace_root`); pass a ``workspace``
+        (:func:`tvl_lsp.workspace.load_workspace`) to skip the file discovery.  ``timeout``
+        bounds the model anomaly search (seconds).
+
+    pairing_of(path, workspace=None, text=None) -> list[Pairing]
+        Which model(s) configure a launch file and by which rule (for hovers / code lenses).
+
+    check_model(path, text, read_file) / check_launch(path, text, pairings, root, read_file)
+        The two per-file steps the above are made of.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from typing import Callable, Iterable, Optional, Sequence
+
+from .diagnostics import Diagnostic, Related, Severity
+from .workspace import (Files, Pairing, Workspace, default_read_file, discover_files, find_workspace_root,
+                        is_launch, is_model, is_yaml, load_workspace, norm)
+
+ReadFile = Callable[[str], Optional[str]]
+
+# below this many files a process pool costs more than it saves
+PARALLEL_MIN_FILES = 24
+LAUNCH_BATCH = 6
+
+
+# ------------------------------------------------------------------ per-file steps
+
+@dataclass
+class _ModelInfo:
+    path: str
+    model: object
+    diagnostics: list[Diagnostic]
+    analysis: object  # ModelAnalysis
+    has_errors: bool
+
+
+def _load_model(path: str, read_file: ReadFile, text: Optional[str] = None,
+                anomalies: bool = True, timeout: Optional[float] = 10.0) -> Optional[_ModelInfo]:
+    from .analysis.engine import ModelAnalysis
+    from .tvl import parse_model
+    if text is None:
+        text = read_file(path)
+    if text is None:
+        return None
+    res = parse_model(text, path, read_file=read_file)
+    diags = list(res.diagnostics)
+    has_errors = any(d.severity == Severity.ERROR for d in diags)
+    analysis = ModelAnalysis(res.model)
+    if anomalies and res.model.root is not None:
+        try:
+            diags += analysis.anomalies(time_budget=timeout)
+        except Exception as exc:  # an analysis bug must not hide the parse diagnostics
+            diags.append(_internal(path, f"model analysis failed: {exc!r}"))
+    return _ModelInfo(path, res.model, diags, analysis, has_errors)
+
+
+def _internal(path: str, msg: str) -> Diagnostic:
+    from .text import Pos, Span
+    return Diagnostic("internal-error", Severity.ERROR, path, Span(Pos(0, 0), Pos(0, 0)), msg)
+
+
+from .diagnostics import register as _register  # noqa: E402
+
+INTERNAL_ERROR = _register("internal-error", Severity.ERROR,
+                           "tvl-lsp failed while analysing a file (a bug: please report it)", "workspace")
+
+
+def check_model(path: str, text: Optional[str] = None, read_file: Optional[ReadFile] = None,
+                timeout: Optional[float] = 10.0) -> list[Diagnostic]:
+    """A model's own diagnostics: syntax, types, and anomalies (void model, dead and
+    false-optional features, ...)."""
+    info = _load_model(path, read_file or default_read_file, text, True, timeout)
+    return info.diagnostics if info else []
+
+
+def _launch_own(analysis) -> list[Diagnostic]:
+    """The launch file's diagnostics that hold whatever the pairing: unconditional ones."""
+    return list(analysis.diagnostics)
+
+
+def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], root: Optional[str],
+                 read_file: Optional[ReadFile] = None, models: Optional[dict] = None,
+                 timeout: Optional[float] = 10.0) -> list[Diagnostic]:
+    """A launch file's diagnostics: its own, and the cross-checks of each pairing."""
+    from .analysis.crosscheck import cross_check
+    from .launch import analyse_launch
+    read_file = read_file or default_read_file
+    if text is None:
+        text = read_file(path)
+    if text is None:
+        return []
+    models = {} if models is None else models
+    out: list[Diagnostic] = []
+    done_alone = False
+    for p in pairings or [Pairing(path, None, "none")]:
+        info = None
+        if p.model is not None:
+            if p.model not in models:
+                models[p.model] = _load_model(p.model, read_file, None, anomalies=False, timeout=timeout)
+            info = models[p.model]
+        if info is None:
+            if done_alone:
+                continue
+            done_alone = True
+        if info is not None:
+            enc = info.analysis.encoding
+            features = [enc.name_of(f) for f in enc.features]
+            features += [n for n in free_top_args(text, path) if enc.feature_by_name(n) is None]
+        else:
+            features = free_top_args(text, path)
+        try:
+            la = analyse_launch(text, path, workspace_root=root, read_file=read_file, features=features)
+        except Exception as exc:
+            out.append(_internal(path, f"launch analysis failed: {exc!r}"))
+            continue
+        out += _launch_own(la)
+        try:
+            if info is not None:
+                out += cross_check(la, info.model, info.analysis.encoding, launch_text=text, model_path=p.model)
+            else:
+                out += cross_check(la, None, None, launch_text=text)
+        except Exception as exc:
+            out.append(_internal(path, f"cross-check failed: {exc!r}"))
+        if p.rule != "none" and p.model is not None and info is not None:
+            out = [_note_pairing(d, p) for d in out]
+    return out
+
+
+_ARG_USE = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
+
+
+_STR_LIT = r"""(?:'[^']*'|"[^"]*"|\[)"""
+_EVAL_NAME = r"""(?:arg\(\s*['"]([^'"]+)['"]\s*\)|\b([A-Za-z_]\w*)\b)"""
+_CMP_RIGHT = re.compile(_EVAL_NAME + r"\s*(?:==|!=|\bnot\s+in\b|\bin\b)\s*" + _STR_LIT)
+_CMP_LEFT = re.compile(_STR_LIT[:-1] + r")\s*(?:==|!=)\s*" + _EVAL_NAME)
+
+
+def _string_compared(value: str) -> set[str]:
+    """Args an ``$(eval)`` compares with a string literal: string args, not booleans."""
+    out = set()
+    for rx in (_CMP_RIGHT, _CMP_LEFT):
+        for m in rx.finditer(value):
+            out.update(g for g in m.groups() if g)
+    return out
+
+
+def free_top_args(text: str, path: str) -> list[str]:
+    """The top-level args checked as free booleans: every direct ``<arg>`` child of
+    ``<launch>`` without ``value`` (a default is only what roslaunch uses when the command
+    line does not set it) that is used only as a boolean -- as a whole ``if`` / ``unless``
+    value or inside ``$(eval)``.  An arg also used as a string (a name, a file) keeps its
+    default: ``true`` / ``false`` would be meaningless there; so does one an ``$(eval)`` compares
+    with a string (``arg('robot') == 'pmb2'``).  With a model, the features are
+    added to these (and those naming no feature are reported as ``unmatched-arg``)."""
+    from .launch import parse_xml
+    doc = parse_xml(text, path)
+    if doc.root is None or doc.root.tag != "launch":
+        return []
+    names = []
+    for x in doc.root.children:
+        a = x.attrs
+        if x.tag == "arg" and "name" in a and "value" not in a and "$" not in a["name"].value:
+            names.append(a["name"].value)
+    used_as_string: set[str] = set()
+    stack = list(doc.root.children)
+    while stack:
+        x = stack.pop()
+        stack.extend(x.children)
+        for k, a in x.attrs.items():
+            if k in ("if", "unless") and _ARG_USE.fullmatch(a.value.strip() or "-"):
+                continue
+            if a.value.lstrip().startswith("$(eval"):
+                used_as_string.update(_string_compared(a.value))
+                continue
+            used_as_string.update(m.group(1) for m in _ARG_USE.finditer(a.value))
+    # an arg computed from others (value="$(eval ...)") that is a string makes them strings too
+    computed = []
+    stack = list(doc.root.children)
+    while stack:
+        x = stack.pop()
+        stack.extend(x.children)
+        if x.tag == "arg" and "name" in x.attrs and "value" in x.attrs:
+            v = x.attrs["value"].value
+            reads = set(_ARG_USE.findall(v))
+            if "$(eval" in v:
+                reads |= set(re.findall(r"[A-Za-z_]\w*", v))
+            computed.append((x.attrs["name"].value, reads))
+    grew = True
+    while grew:
+        grew = False
+        for name, reads in computed:
+            if name in used_as_string and not reads <= used_as_string:
+                used_as_string |= reads
+                grew = True
+    return [n for n in dict.fromkeys(names) if n not in used_as_string]
+
+
+def _note_pairing(d: Diagnostic, p: Pairing) -> Diagnostic:
+    """Cross-check diagnostics say which pairing they come from (related: the pairing)."""
+    if d.witness is None and d.code not in ("missing-arg", "unmatched-arg", "dead-element", "constant-condition"):
+        return d
+    if p.source_path and p.source_span and not any(r.path == p.source_path and r.span == p.source_span
+                                                    for r in d.related):
+        d.related = list(d.related) + [Related(p.source_path, p.source_span, p.describe())]
+    return d
+
+
+# ------------------------------------------------------------------ units of work
+
+@dataclass(frozen=True)
+class _Unit:
+    model: Optional[str]           # the model this unit is about (None: unpaired launch files)
+    model_wanted: bool              # report the model's own diagnostics
+    launches: tuple                 # ((launch path, (Pairing, ...)), ...)
+    root: Optional[str]
+    timeout: Optional[float] = 10.0
+
+
+def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnostic]:
+    read_file = read_file or default_read_file
+    out: list[Diagnostic] = []
+    models: dict = {}
+    try:
+        if unit.model is not None and unit.model_wanted:
+            info = _load_model(unit.model, read_file, None, True, unit.timeout)
+            models[unit.model] = info
+            if info is not None:
+                out += info.diagnostics
+        for lf, pairings in unit.launches:
+            try:
+                out += check_launch(lf, None, pairings, unit.root, read_file, models, unit.timeout)
+            except Exception as exc:
+                out.append(_internal(lf, f"check failed: {exc!r}"))
+    except Exception as exc:
+        out.append(_internal(unit.model or "", f"check failed: {exc!r}"))
+    return out
+
+
+def _dedupe_sort(diags: Iterable[Diagnostic]) -> list[Diagnostic]:
+    seen = set()
+    out = []
+    for d in sorted(diags, key=lambda d: (d.sort_key(), d.severity)):
+        key = (d.path, d.span, d.code, d.message)
+        if key in seen:
+            continue
+        seen.add(key)
+        out.append(d)
+    return out
+
+
+def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
+         timeout: Optional[float] = 10.0) -> tuple[list[_Unit], list[Diagnostic], int]:
+    """Discover, pair and split the work into units.  Returns (units, diagnostics found while
+    pairing, number of files)."""
+    read_file = read_file or default_read_file
+    targets = discover_files(paths)
+    roots: dict[str, list[str]] = {}
+    for p in paths:
+        roots.setdefault(find_workspace_root(p), []).append(p)
+    workspaces: list[tuple[str, Workspace]] = []
+    for r in sorted(roots):
+        try:
+            ws = load_workspace([r], read_file)
+        except Exception:
+            ws = load_workspace([r], read_file, files=Files())
+        workspaces.append((r, ws))
+
+    def ws_for(path: str) -> tuple[str, Workspace]:
+        best = None
+        for r, ws in workspaces:
+            if path == r or path.startswith(r.rstrip(os.sep) + os.sep):
+                if best is None or len(r) > len(best[0]):
+                    best = (r, ws)
+        return best or workspaces[0]
+
+    pre: list[Diagnostic] = []
+    target_yamls = set(targets.yamls)
+    for _, ws in workspaces:
+        for pf in ws.projects:
+            if pf.path in target_yamls:
+                pre += pf.diagnostics
+    by_model: dict[str, list] = {}
+    alone: list = []
+    root_of: dict[str, str] = {}
+    for lf in targets.launches:
+        r, ws = ws_for(lf)
+        root_of[lf] = r
+        try:
+            pairings, pdiags = ws.pair(lf)
+        except Exception as exc:
+            pairings, pdiags = [Pairing(lf, None, "none")], [_internal(lf, f"pairing failed: {exc!r}")]
+        pre += pdiags
+        modelled = [p for p in pairings if p.model is not None]
+        if not modelled:
+            alone.append((lf, tuple(pairings)))
+        for p in modelled:
+            by_model.setdefault(p.model, []).append((lf, (p,)))
+    target_models = set(targets.models)
+    units: list[_Unit] = []
+    for m in sorted(set(by_model) | target_models):
+        lfs = tuple(by_model.get(m, ()))
+        root = root_of[lfs[0][0]] if lfs else ws_for(m)[0]
+        units.append(_Unit(m, m in target_models, lfs, root, timeout))
+    for i in range(0, len(alone), LAUNCH_BATCH):
+        batch = tuple(alone[i:i + LAUNCH_BATCH])
+        units.append(_Unit(None, False, batch, root_of[batch[0][0]], timeout))
+    nfiles = len(targets.launches) + len(targets.models) + len(targets.yamls)
+    return units, pre, nfiles
+
+
+def check_paths(paths: Sequence[str], read_file: Optional[ReadFile] = None, jobs: Optional[int] = None,
+                timeout: Optional[float] = 10.0) -> list[Diagnostic]:
+    """Check every model, launch file and HAROS project file under ``paths``."""
+    paths = [norm(p) for p in (paths or ["."])]
+    units, out, nfiles = plan(paths, read_file, timeout)
+    if jobs is None:
+        jobs = os.cpu_count() or 1
+    jobs = max(1, min(jobs, len(units)))
+    if read_file is not None or jobs == 1 or nfiles < PARALLEL_MIN_FILES:
+        for u in units:
+            out += _run_unit(u, read_file)
+    else:
+        # heaviest first (models with many launch files), results merged in submission order
+        order = sorted(range(len(units)), key=lambda i: -len(units[i].launches) - (4 if units[i].model else 0))
+        results: dict[int, list[Diagnostic]] = {}
+        with ProcessPoolExecutor(max_workers=jobs) as ex:
+            futs = {i: ex.submit(_run_unit, units[i]) for i in order}
+            for i in order:
+                results[i] = futs[i].result()
+        for i in range(len(units)):
+            out += results[i]
+    return _dedupe_sort(out)
+
+
+# ------------------------------------------------------------------ the server's entry
+
+_WS_CACHE: dict[tuple, tuple[float, Workspace]] = {}
+WS_CACHE_SECONDS = 5.0
+
+
+def invalidate_workspaces() -> None:
+    """Forget cached workspaces (call when files are created, deleted or renamed)."""
+    _WS_CACHE.clear()
+
+
+def _workspace(roots: Sequence[str], read_file: ReadFile) -> Workspace:
+    key = tuple(sorted(norm(r) for r in roots))
+    now = time.monotonic()
+    hit = _WS_CACHE.get(key)
+    if hit is not None and now - hit[0] < WS_CACHE_SECONDS:
+        files = hit[1].files
+        return load_workspace(key, read_file, files=files)
+    ws = load_workspace(key, read_file)
+    _WS_CACHE[key] = (now, ws)
+    return ws
+
+
+def _roots_for(path: str, roots: Optional[Sequence[str]]) -> list[str]:
+    if roots:
+        inside = [norm(r) for r in roots if norm(path).startswith(norm(r).rstrip(os.sep) + os.sep)]
+        if inside:
+            return [max(inside, key=len)]
+    return [find_workspace_root(path)]
+
+
+def pairing_of(path: str, workspace: Optional[Workspace] = None, text: Optional[str] = None,
+               roots: Optional[Sequence[str]] = None, read_file: Optional[ReadFile] = None) -> list[Pairing]:
+    path = norm(path)
+    read_file = read_file or default_read_file
+    ws = workspace or _workspace(_roots_for(path, roots), read_file)
+    return ws.pair(path, text)[0]
+
+
+def check_document(path: str, text: Optional[str] = None, read_file: Optional[ReadFile] = None,
+                   roots: Optional[Sequence[str]] = None, timeout: Optional[float] = 10.0,
+                   workspace: Optional[Workspace] = None) -> list[Diagnostic]:
+    """Every diagnostic of the document at ``path`` (see the module docstring)."""
+    path = norm(path)
+    base_read = read_file or default_read_file
+
+    def read(p: str) -> Optional[str]:
+        if text is not None and norm(p) == path:
+            return text
+        return base_read(p)
+
+    if text is None:
+        text = read(path)
+    if text is None:
+        return []
+    if is_model(path):
+        return _dedupe_sort(check_model(path, text, read, timeout))
+    if is_launch(path):
+        rts = _roots_for(path, roots)
+        ws = workspace or _workspace(rts, read)
+        pairings, pdiags = ws.pair(path, text)
+        out = list(pdiags) + check_launch(path, text, pairings, rts[0], read, None, timeout)
+        return _dedupe_sort(d for d in out if d.path == path)
+    if is_yaml(path):
+        from .workspace import find_packages, parse_project
+        ws = workspace or _workspace(_roots_for(path, roots), read)
+        pf = parse_project(path, text, ws.all_packages or ws.packages)
+        return _dedupe_sort(pf.diagnostics if pf else [])
+    return []

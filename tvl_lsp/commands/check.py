@@ -1,0 +1,124 @@
+"""``tvl-lsp --check [PATH ...]``: check models, launch files and HAROS project files (for CI).
+
+Exit status: 0 when no error was found, 1 when there are errors (or warnings with
+``--strict``), 2 on a usage error or an internal failure.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import traceback
+from typing import Optional
+
+EPILOG = """\
+formats:
+  text    path:line:col: severity[code] message   (1-based line and column)
+  json    a list of {path, range, severity, code, message, related, witness}; 0-based LSP
+          positions, character in UTF-16 code units; witness: feature -> true/false
+  sarif   SARIF 2.1.0 (GitHub code scanning, VS Code SARIF viewer, ...)
+  github  GitHub Actions workflow commands (::error file=...,line=...::message)
+
+Pairing a launch file with its model: a HAROS project file (configurations: {lf: ..., tvl: ...}),
+else a marker comment <!-- tvl-lsp: model=path/to/model.tvl --> in the launch file, else a .tvl
+with the same name in the same folder.  `tvl-lsp --explain CODE` documents each code.
+"""
+
+
+class _UsageError(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # exit 2 with our own message, never SystemExit from deep inside
+        raise _UsageError(message)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="tvl-lsp --check", description="Check TVL models and the launch files they configure.",
+                epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("paths", nargs="*", metavar="PATH", help="files or folders (default: .)")
+    p.add_argument("--format", "-f", choices=("text", "json", "sarif", "github"), default="text")
+    p.add_argument("--select", action="append", default=[], metavar="CODE[,CODE...]",
+                   help="report only these codes (repeatable)")
+    p.add_argument("--ignore", action="append", default=[], metavar="CODE[,CODE...]",
+                   help="do not report these codes (repeatable)")
+    p.add_argument("--strict", action="store_true", help="warnings also make the exit status 1")
+    p.add_argument("--output", "-o", metavar="FILE", help="write the report to FILE instead of stdout")
+    p.add_argument("--jobs", "-j", type=int, default=None, metavar="N",
+                   help="parallel processes (default: one per CPU; 1: no processes)")
+    p.add_argument("--quiet", "-q", action="store_true", help="no summary line on stderr")
+    return p
+
+
+def _codes(values: list[str]) -> set[str]:
+    out = set()
+    for v in values:
+        for c in v.split(","):
+            c = c.strip()
+            if c:
+                out.add(c)
+    return out
+
+
+def main(argv: Optional[list[str]] = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser()
+    try:
+        if "-h" in argv or "--help" in argv:
+            parser.print_help()
+            return 0
+        ns = parser.parse_args(argv)
+        from .. import check
+        from ..diagnostics import CODES, Severity
+        from ..output import render
+        from ..workspace import default_read_file
+        select, ignore = _codes(ns.select), _codes(ns.ignore)
+        unknown = sorted((select | ignore) - set(CODES))
+        if unknown:
+            import difflib
+            hints = []
+            for u in unknown:
+                m = difflib.get_close_matches(u, sorted(CODES), n=1)
+                hints.append(f"`{u}`" + (f" (did you mean `{m[0]}`?)" if m else ""))
+            raise _UsageError("unknown diagnostic code " + ", ".join(hints) + "; `tvl-lsp --explain` lists them")
+        paths = ns.paths or ["."]
+        missing = [p for p in paths if not os.path.exists(p)]
+        if missing:
+            raise _UsageError("no such file or folder: " + ", ".join(missing))
+        if ns.jobs is not None and ns.jobs < 1:
+            raise _UsageError("--jobs must be at least 1")
+    except _UsageError as exc:
+        print(f"tvl-lsp --check: error: {exc}", file=sys.stderr)
+        return 2
+
+    try:
+        diags = check.check_paths(paths, jobs=ns.jobs)
+        if select:
+            diags = [d for d in diags if d.code in select]
+        if ignore:
+            diags = [d for d in diags if d.code not in ignore]
+        text = render(ns.format, diags, default_read_file)
+        if ns.output:
+            with open(ns.output, "w", encoding="utf-8", newline="\n") as fh:
+                fh.write(text)
+        else:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+    except BrokenPipeError:
+        raise
+    except Exception:
+        print("tvl-lsp --check: internal error (please report it):", file=sys.stderr)
+        traceback.print_exc()
+        return 2
+
+    n_err = sum(1 for d in diags if d.severity == Severity.ERROR)
+    n_warn = sum(1 for d in diags if d.severity == Severity.WARNING)
+    n_other = len(diags) - n_err - n_warn
+    if not ns.quiet:
+        files = len({d.path for d in diags})
+        print(f"{n_err} error(s), {n_warn} warning(s), {n_other} note(s) in {files} file(s)", file=sys.stderr)
+    if n_err or (ns.strict and n_warn):
+        return 1
+    return 0

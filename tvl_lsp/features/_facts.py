@@ -1,0 +1,328 @@
+"""Pure helpers for the server's features: look-ups in parsed models and launch analyses,
+and the model facts (counts, anomalies) computed in a worker process.  No pygls here.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Iterable, Optional
+
+from ..text import Pos, Span
+from ..tvl import model as M
+
+
+# ------------------------------------------------------------------ model facts
+
+@dataclass
+class ModelFacts:
+    total: Optional[int] = None
+    per_feature: dict[str, int] = field(default_factory=dict)   # feature (name_of) -> products
+    core: set[str] = field(default_factory=set)
+    dead: set[str] = field(default_factory=set)
+    false_optional: set[str] = field(default_factory=set)
+    error: Optional[str] = None
+    seconds: float = 0.0
+
+
+def _names(items) -> set[str]:
+    out = set()
+    for x in items or ():
+        if isinstance(x, str):
+            out.add(x)
+        elif hasattr(x, "long_name"):
+            out.add(x.name)
+            out.add(x.long_name)
+        elif hasattr(x, "feature"):
+            out |= _names([x.feature])
+        elif hasattr(x, "name"):
+            out.add(str(x.name))
+    return out
+
+
+def _engine(path: str, sources: dict[str, str]):
+    from ..analysis.engine import ModelAnalysis
+    from ..tvl import parse_model
+    res = parse_model(sources[path], path, read_file=sources.get)
+    return ModelAnalysis(res.model)
+
+
+def compute_model_facts(path: str, sources: dict[str, str], timeout: float) -> ModelFacts:
+    """Total count, per-feature counts and anomalies of the model at ``path`` (``sources``:
+    its text and the texts of the files it includes)."""
+    t0 = time.perf_counter()
+    facts = ModelFacts()
+    try:
+        eng = _engine(path, sources)
+        t_end = time.monotonic() + timeout
+        facts.total = _as_int(eng.count(timeout=timeout))
+        facts.core = set(eng.core_features())
+        facts.dead = set(eng.dead_features())
+        facts.false_optional = set(eng.false_optional_features())
+        left = max(0.1, t_end - time.monotonic())
+        per = eng.feature_counts(timeout=left)
+        for f in eng.model.features:
+            n = per.get(eng.name(f))
+            if n is not None:
+                facts.per_feature[f.long_name] = n
+                facts.per_feature.setdefault(f.name, n)
+    except Exception as e:  # a timeout or a model the engine refuses: say so, never crash
+        facts.error = f"{type(e).__name__}: {e}" if str(e) else type(e).__name__
+    facts.seconds = time.perf_counter() - t0
+    return facts
+
+
+def count_under(path: str, sources: dict[str, str], formula, timeout: float) -> Optional[int]:
+    """Products of the model in which ``formula`` (over feature names) holds."""
+    eng = _engine(path, sources)
+    return _as_int(eng.count(formula=formula, timeout=timeout))
+
+
+def _get(obj, name):
+    if obj is None:
+        return None
+    if isinstance(obj, dict):
+        return obj.get(name)
+    return getattr(obj, name, None)
+
+
+def _as_int(v) -> Optional[int]:
+    if v is None:
+        return None
+    if isinstance(v, bool):
+        return int(v)
+    if isinstance(v, int):
+        return v
+    for attr in ("count", "value", "total"):
+        x = getattr(v, attr, None)
+        if isinstance(x, int) and not isinstance(x, bool):
+            return x
+    try:
+        return int(v)
+    except (TypeError, ValueError):
+        return None
+
+
+def percent(n: int, total: int) -> str:
+    if not total:
+        return "0 %"
+    p = 100 * n / total
+    if p in (0, 100) or p >= 1:
+        return f"{p:.0f} %" if abs(p - round(p)) < 0.05 else f"{p:.1f} %"
+    return f"{p:.2g} %"
+
+
+# ------------------------------------------------------------------ TVL look-ups
+
+def _walk_expr(e) -> Iterable:
+    stack = [e]
+    while stack:
+        x = stack.pop()
+        if x is None:
+            continue
+        yield x
+        for attr in ("operand", "left", "right", "cond", "then", "other", "lo", "hi"):
+            c = getattr(x, attr, None)
+            if isinstance(c, M.Expr):
+                stack.append(c)
+        for attr in ("args", "items"):
+            cs = getattr(x, attr, None)
+            if isinstance(cs, list):
+                stack.extend(c for c in cs if isinstance(c, M.Expr))
+
+
+def model_exprs(model: M.Model) -> Iterable[M.Expr]:
+    for f in model.features:
+        for c in f.constraints:
+            yield from _walk_expr(c.expr)
+        for a in f.attributes:
+            for e in (a.value, a.domain, a.if_in_value, a.if_in_domain, a.if_out_value, a.if_out_domain):
+                if e is not None:
+                    yield from _walk_expr(e)
+        if f.group is not None:
+            for e in (f.group.lo_expr, f.group.hi_expr):
+                if e is not None:
+                    yield from _walk_expr(e)
+    for c in model.constants:
+        yield from _walk_expr(c.value)
+
+
+def name_at(model: M.Model, path: str, pos: Pos):
+    """(target, span) of the name at ``pos``: a feature / attribute / constant / type
+    declaration or a resolved reference; None when there is none."""
+    try:
+        from ..tvl import symbols
+        hit = symbols.name_at(model, path, pos)
+        if hit is not None:
+            return hit if isinstance(hit, tuple) else (hit, None)
+    except (ImportError, AttributeError):
+        pass
+    for f in model.features:
+        for p, s in f.decl_spans or [(f.path, f.name_span)]:
+            if p == path and s.contains(pos):
+                return f, s
+        for a in f.attributes:
+            if a.path == path and a.name_span.contains(pos):
+                return a, a.name_span
+    for c in model.constants:
+        if c.path == path and c.name_span.contains(pos):
+            return c, c.name_span
+    for t in model.types:
+        if t.path == path and t.name_span.contains(pos):
+            return t, t.name_span
+    for e in model_exprs(model):
+        if isinstance(e, M.Name) and e.path == path and e.span.contains(pos):
+            # the part under the cursor
+            for i, ps in enumerate(e.part_spans):
+                if ps.contains(pos):
+                    if e.feature is not None and e.target is not None and i == len(e.parts) - 1:
+                        return e.target, ps
+                    tgt = e.feature or e.target
+                    return tgt, ps
+            return e.target, e.span
+    return None
+
+
+def references(model: M.Model, target) -> list[tuple[str, Span]]:
+    """Every place ``target`` is named in the model (declarations included)."""
+    try:
+        from ..tvl import symbols
+        refs = symbols.references(model, target)
+        return [(r[0], r[1]) if isinstance(r, tuple) else (r.path, r.span) for r in refs]
+    except (ImportError, AttributeError):
+        pass
+    out: list[tuple[str, Span]] = []
+    if isinstance(target, M.Feature):
+        out.extend(target.decl_spans or [(target.path, target.name_span)])
+    elif hasattr(target, "name_span"):
+        out.append((target.path, target.name_span))
+    for e in model_exprs(model):
+        if not isinstance(e, M.Name):
+            continue
+        if e.target is target and e.part_spans:
+            out.append((e.path, e.part_spans[-1]))
+        elif e.feature is target and e.part_spans:
+            # the feature part of ``Feature.attr``
+            out.append((e.path, e.part_spans[max(0, len(e.part_spans) - 2)]))
+    seen, uniq = set(), []
+    for p, s in out:
+        if (p, s) not in seen:
+            seen.add((p, s))
+            uniq.append((p, s))
+    return uniq
+
+
+def group_text(g: M.Group) -> str:
+    if g.kind == "card":
+        hi = "*" if g.hi is None else str(g.hi)
+        return f"[{g.lo}..{hi}]"
+    return g.kind
+
+
+# ------------------------------------------------------------------ launch look-ups
+
+def own_elements(analysis, path: str) -> list:
+    return [e for e in analysis.elements if e.path == path and e.include_depth == 0]
+
+
+def element_at(analysis, path: str, pos: Pos):
+    best = None
+    for e in own_elements(analysis, path):
+        if e.span.contains(pos) and (best is None or best.span.start <= e.span.start):
+            best = e
+    return best
+
+
+def subst_at(analysis, path: str, pos: Pos):
+    for e in own_elements(analysis, path):
+        for s in e.substitutions:
+            if s.span.contains(pos):
+                return e, s
+    return None
+
+
+_ARG_RE = None
+
+
+def arg_name_span(subst, index) -> Optional[Span]:
+    """The span of X in ``$(arg X)`` (the subst span is the whole ``$(...)``); ``index`` is
+    the LineIndex of the file's text."""
+    import re
+    global _ARG_RE
+    if _ARG_RE is None:
+        _ARG_RE = re.compile(r"\$\(\s*arg\s+([^\s)]+)")
+    a, b = index.offset(subst.span.start), index.offset(subst.span.end)
+    m = _ARG_RE.match(index.text, a, b)
+    if not m:
+        return None
+    return index.span(m.start(1), m.end(1))
+
+
+def arg_decls(analysis, path: str, name: str) -> list:
+    out = []
+    for e in own_elements(analysis, path):
+        if e.tag == "arg" and "name" in e.attrs and e.attrs["name"].value == name:
+            out.append(e)
+    return out
+
+
+def arg_uses(analysis, path: str, name: str) -> list:
+    """(element, subst) for every ``$(arg name)`` in the file."""
+    out = []
+    for e in own_elements(analysis, path):
+        for s in e.substitutions:
+            if s.kind == "arg" and s.args and s.args[0] == name:
+                out.append((e, s))
+    return out
+
+
+# ------------------------------------------------------------------ configurator (worker process)
+
+def configure(path: str, sources: dict[str, str], decisions: dict[str, bool], timeout: float) -> dict:
+    """Propagate the configurator's decisions: forced features, conflict, remaining count."""
+    eng = _engine(path, sources)
+    known = {eng.name(f) for f in eng.model.features} | {f.name for f in eng.model.features}
+    unknown = sorted(k for k in decisions if k not in known)
+    if unknown:
+        return {"error": f"unknown feature(s): {', '.join(unknown)}", "decisions": decisions}
+    p = eng.propagate(decisions, count=True, timeout=timeout)
+    return {
+        "decisions": dict(p.decisions),
+        "forced": dict(sorted(p.forced.items())),
+        "conflict": p.conflict,
+        "remaining": p.count,
+        "remainingText": None if p.count is None else str(p.count),
+        "open": list(p.open),
+    }
+
+
+def list_products(path: str, sources: dict[str, str], decisions: dict[str, bool], limit: int,
+                  timeout: float) -> dict:
+    eng = _engine(path, sources)
+    inc = [k for k, v in decisions.items() if v]
+    exc = [k for k, v in decisions.items() if not v]
+    names = [eng.name(f) for f in eng.model.features]
+    prods = []
+    for p in eng.enumerate(limit=limit, include=inc, exclude=exc):
+        prods.append([n for n in names if p.get(n)])
+    try:
+        total = eng.count(include=inc, exclude=exc, timeout=timeout)
+    except Exception:
+        total = None
+    return {"products": prods, "remaining": total, "remainingText": None if total is None else str(total),
+            "truncated": total is not None and total > len(prods)}
+
+
+def generation_products(path: str, sources: dict[str, str], decisions: dict[str, bool], mode: str,
+                        limit: int) -> list[dict[str, bool]]:
+    """Products to write configuration files for: ``one`` (the smallest product respecting the
+    decisions), ``completions`` (every product respecting them) or ``all`` (every product)."""
+    eng = _engine(path, sources)
+    inc = [k for k, v in decisions.items() if v]
+    exc = [k for k, v in decisions.items() if not v]
+    if mode == "one":
+        p = eng.find_product(include=inc, exclude=exc)
+        return [p] if p is not None else []
+    if mode == "all":
+        inc, exc = [], []
+    return list(eng.enumerate(limit=limit, include=inc, exclude=exc))

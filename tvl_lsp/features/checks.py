@@ -1,0 +1,79 @@
+"""The server's entry into the pure check pipeline (``tvl_lsp.check``), the same functions
+``tvl-lsp --check`` uses, so the editor and CI never disagree.  No pygls here: these run
+in worker threads on plain data (text + a reader over a snapshot of the open documents).
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+from typing import Callable, Optional, Sequence
+
+from ..diagnostics import Diagnostic
+
+log = logging.getLogger("tvl_lsp.server")
+
+Reader = Callable[[str], Optional[str]]
+
+
+def _root_for(path: str, roots: Sequence[str]) -> Optional[str]:
+    best = None
+    for r in roots:
+        try:
+            Path(path).relative_to(r)
+        except ValueError:
+            continue
+        if best is None or len(r) > len(best):
+            best = r
+    return best
+
+
+def parse_document(kind: str, path: str, text: str, read: Reader, roots: Sequence[str]):
+    """The front end's result for a document: a TvlResult (model) or a LaunchAnalysis."""
+    if kind == "tvl":
+        from ..tvl import parse_model
+        return parse_model(text, path, read_file=read)
+    if kind == "launch":
+        from ..launch import analyse_launch
+        return analyse_launch(text, path, workspace_root=_root_for(path, roots), read_file=read)
+    return None
+
+
+def syntax_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[str]):
+    """Fast diagnostics (parse + load-time rules, no solver) and the parsed document."""
+    parsed = parse_document(kind, path, text, read, roots)
+    diags = list(getattr(parsed, "diagnostics", []) or [])
+    return diags, parsed
+
+
+def full_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[str],
+               budget: float, workspace=None) -> list[Diagnostic]:
+    """Every diagnostic of the document, solver-backed ones included: exactly what
+    ``tvl-lsp --check`` reports for it."""
+    from .. import check
+    return list(check.check_document(path, text, read_file=read, roots=list(roots) or None,
+                                     timeout=budget, workspace=workspace))
+
+
+def depends_on(ls, doc, changed: str) -> bool:
+    """Should ``doc`` be re-checked when the file ``changed`` changes?  A launch file depends
+    on its paired models and on the launch files it may include; a model on the launch files
+    paired with it (so that both sides stay consistent in the editor)."""
+    ck = _kind(changed)
+    if doc.kind == "launch":
+        if ck == "tvl":
+            return _norm(changed) in {_norm(m) for m in ls.models_for_launch(doc.path)}
+        return ck == "launch"
+    if doc.kind == "tvl" and ck == "launch":
+        return _norm(doc.path) in {_norm(m) for m in ls.models_for_launch(changed)}
+    return False
+
+
+def _norm(p: str) -> str:
+    import os
+    return os.path.normpath(os.path.abspath(p))
+
+
+def _kind(path: str) -> Optional[str]:
+    from ..server import file_kind
+    return file_kind(path)

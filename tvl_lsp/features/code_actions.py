@@ -1,0 +1,86 @@
+"""Code actions: every ``Diagnostic.fixes`` becomes a quick fix (add the missing
+``<arg name="X"/>``, rename an unknown name to a close one, ``and`` → ``&&``,
+``constant`` → ``const``, …), "add all missing args" at once, and the generation of
+configuration launch files (a command: products are computed off the event loop)."""
+
+from __future__ import annotations
+
+from lsprotocol import types
+
+from ..diagnostics import Fix, TextEdit
+from ..lsp_convert import fix_to_edit, from_lsp_range, spans_overlap, to_lsp_diagnostic
+from .commands import GENERATE
+
+
+def _same(lsp_diag: types.Diagnostic, d, rng) -> bool:
+    return lsp_diag.code == d.code and lsp_diag.range == rng
+
+
+def merge_fixes(title: str, fixes: list[Fix]) -> Fix:
+    """One fix applying several (edits at the same place are concatenated in order)."""
+    merged: dict[tuple, TextEdit] = {}
+    order = []
+    for f in fixes:
+        for e in f.edits:
+            k = (e.path, e.span)
+            if k in merged:
+                merged[k] = TextEdit(e.path, e.span, merged[k].new_text + e.new_text)
+            else:
+                merged[k] = e
+                order.append(k)
+    return Fix(title, tuple(merged[k] for k in order), preferred=False)
+
+
+def register(ls) -> None:
+    @ls.feature(types.TEXT_DOCUMENT_CODE_ACTION,
+                types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix,
+                                                           types.CodeActionKind.Source]))
+    async def code_action(ls, params: types.CodeActionParams):
+        uri = params.text_document.uri
+        doc = ls.docs.get(uri)
+        if doc is None or doc.kind is None:
+            return None
+        res = ls.results.get(uri)
+        if res is None or res.version != doc.version:
+            res = await ls.wait_full(uri, 2.0)
+        want = params.context.only
+        actions: list[types.CodeAction] = []
+        span = from_lsp_range(doc.index, params.range, ls.encoding)
+        enc = ls.encoding
+        all_missing = []
+        if res is not None and res.version == doc.version:
+            for d in res.diagnostics:
+                if d.path and d.path != doc.path:
+                    continue
+                if d.code == "missing-arg" and d.fixes:
+                    all_missing.append(d)
+                if not d.fixes or not spans_overlap(d.span, span):
+                    continue
+                sev = ls.settings.severity(d)
+                if sev is None:
+                    continue
+                ld = to_lsp_diagnostic(d, doc.index, enc, ls.index_of, sev)
+                for fx in d.fixes:
+                    actions.append(types.CodeAction(
+                        title=fx.title, kind=types.CodeActionKind.QuickFix, diagnostics=[ld],
+                        is_preferred=fx.preferred or None, edit=fix_to_edit(fx, ls.index_of, enc)))
+        if len(all_missing) > 1 and any(spans_overlap(d.span, span) for d in all_missing):
+            fx = merge_fixes(f"Add all {len(all_missing)} missing <arg> tags",
+                             [f for d in all_missing for f in d.fixes[:1]])
+            diags = [to_lsp_diagnostic(d, doc.index, enc, ls.index_of) for d in all_missing]
+            actions.append(types.CodeAction(title=fx.title, kind=types.CodeActionKind.QuickFix,
+                                            diagnostics=diags, edit=fix_to_edit(fx, ls.index_of, enc)))
+        paired = doc.kind == "tvl" or bool(ls.models_for_launch(doc.path))
+        if paired:
+            limit = ls.settings.generate_limit
+            for mode, title in (("one", "Generate a configuration launch file for one product"),
+                                ("completions", "Generate configuration launch files for every completion "
+                                                f"of the current configuration (up to {limit})"),
+                                ("all", f"Generate configuration launch files for all products (up to {limit})")):
+                actions.append(types.CodeAction(
+                    title=title, kind=types.CodeActionKind.Source,
+                    command=types.Command(title=title, command=GENERATE,
+                                          arguments=[{"uri": uri, "mode": mode, "limit": limit}])))
+        if want:
+            actions = [a for a in actions if a.kind and any(str(a.kind).startswith(str(w)) for w in want)]
+        return actions

@@ -1,0 +1,235 @@
+"""``workspace/executeCommand``: the configurator (include / exclude / reset a feature, count,
+list the remaining products) and the generation of configuration launch files.
+
+Every command takes, as its first argument, the URI (or path) of a model or of a launch file
+paired with one; the configurator keeps one set of decisions per model.
+
+- ``tvl-lsp.include``  [uri, feature]     -> propagation {decisions, forced, conflict, remaining}
+- ``tvl-lsp.exclude``  [uri, feature]     -> same
+- ``tvl-lsp.reset``    [uri, feature?]    -> same (no feature: forget every decision)
+- ``tvl-lsp.count``    [uri]              -> {total, remaining, decisions} (…Text: decimal strings)
+- ``tvl-lsp.listProducts`` [uri, limit?]  -> {products: [[selected features]], remaining, truncated}
+- ``tvl-lsp.generateConfigurations`` [{uri, mode: one|completions|all, limit?, folder?, launch?}]
+      -> {files: [paths], applied: bool}: created through workspace/applyEdit (CreateFile +
+      edits) when the client supports resource operations, else written by the server.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import os
+from pathlib import Path
+from typing import Any, Optional
+
+from lsprotocol import types
+from pygls.exceptions import JsonRpcInvalidParams
+
+from ..generate import GenerateError, plan_configurations, resolve_folder
+from ..lsp_convert import path_to_uri, uri_to_path
+from . import _facts as F
+
+INCLUDE, EXCLUDE, RESET = "tvl-lsp.include", "tvl-lsp.exclude", "tvl-lsp.reset"
+COUNT, LIST, GENERATE = "tvl-lsp.count", "tvl-lsp.listProducts", "tvl-lsp.generateConfigurations"
+DOC_STATE = "tvl-lsp.documentState"
+
+
+def _path(arg: Any) -> str:
+    if isinstance(arg, dict):
+        arg = arg.get("uri") or arg.get("path")
+    if not isinstance(arg, str) or not arg:
+        raise JsonRpcInvalidParams("the first argument must be the URI of a model or launch file")
+    return uri_to_path(arg) if "://" in arg else str(Path(arg).absolute())
+
+
+def model_of(ls, path: str) -> str:
+    from ..server import file_kind
+    if file_kind(path) == "tvl":
+        return path
+    models = ls.models_for_launch(path)
+    if not models:
+        raise JsonRpcInvalidParams(f"{Path(path).name} is not paired with a model")
+    return models[0]
+
+
+async def _in_worker(ls, fn, *args, title: Optional[str] = None):
+    loop = asyncio.get_running_loop()
+
+    async def run():
+        return await asyncio.wrap_future(ls.proc_pool.submit(fn, *args))
+    if title:
+        return await ls.with_progress(title, run())
+    return await run()
+
+
+def register(ls) -> None:
+    ls.decisions = {}  # model path -> {feature: bool}
+
+    async def propagate(ls, model: str) -> dict:
+        sources = await ls.model_sources(model)
+        if sources is None:
+            raise JsonRpcInvalidParams(f"cannot read {model}")
+        res = await _in_worker(ls, F.configure, model, sources, dict(ls.decisions.get(model, {})),
+                               ls.settings.time_budget)
+        if res.get("error"):
+            raise JsonRpcInvalidParams(res["error"])
+        _refresh_lens(ls)
+        return res
+
+    @ls.command(INCLUDE)
+    async def include(ls, *args):
+        model = model_of(ls, _path(args[0] if args else None))
+        feature = _feature_arg(args)
+        ls.decisions.setdefault(model, {})[feature] = True
+        return await _checked(ls, propagate, model, feature)
+
+    @ls.command(EXCLUDE)
+    async def exclude(ls, *args):
+        model = model_of(ls, _path(args[0] if args else None))
+        feature = _feature_arg(args)
+        ls.decisions.setdefault(model, {})[feature] = False
+        return await _checked(ls, propagate, model, feature)
+
+    @ls.command(RESET)
+    async def reset(ls, *args):
+        model = model_of(ls, _path(args[0] if args else None))
+        if len(args) > 1 and isinstance(args[1], str):
+            ls.decisions.get(model, {}).pop(args[1], None)
+        else:
+            ls.decisions.pop(model, None)
+        return await propagate(ls, model)
+
+    @ls.command(COUNT)
+    async def count(ls, *args):
+        model = model_of(ls, _path(args[0] if args else None))
+        facts = await ls.model_facts(model)
+        decisions = dict(ls.decisions.get(model, {}))
+        remaining = facts.total if facts else None
+        if decisions:
+            remaining = (await propagate(ls, model)).get("remaining")
+        return {"total": facts.total if facts else None,
+                "totalText": None if not facts or facts.total is None else str(facts.total),
+                "remaining": remaining, "remainingText": None if remaining is None else str(remaining),
+                "decisions": decisions, "error": facts.error if facts else "no model"}
+
+    @ls.command(LIST)
+    async def list_products(ls, *args):
+        model = model_of(ls, _path(args[0] if args else None))
+        limit = args[1] if len(args) > 1 and isinstance(args[1], int) and args[1] > 0 else 100
+        sources = await ls.model_sources(model)
+        return await _in_worker(ls, F.list_products, model, sources, dict(ls.decisions.get(model, {})),
+                                limit, ls.settings.time_budget, title="Listing products")
+
+    @ls.command(GENERATE)
+    async def generate(ls, *args):
+        opts = args[0] if args and isinstance(args[0], dict) else {"uri": args[0] if args else None}
+        return await generate_configurations(ls, opts)
+
+    @ls.command(DOC_STATE)
+    def document_state(ls, *args):
+        """Diagnostics aid (used by the soak test): the server's copy of a document."""
+        uri = args[0] if args else ""
+        doc = ls.docs.get(uri)
+        rss = None
+        try:
+            with open("/proc/self/statm") as fh:
+                rss = int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+        except (OSError, ValueError):
+            pass
+        return {"text": doc.text if doc else None, "version": doc.version if doc else None,
+                "rss": rss, "documents": len(ls.docs), "cache": len(ls.cache)}
+
+
+def _feature_arg(args) -> str:
+    if len(args) < 2 or not isinstance(args[1], str) or not args[1]:
+        raise JsonRpcInvalidParams("the second argument must be a feature name")
+    return args[1]
+
+
+async def _checked(ls, propagate, model, feature):
+    try:
+        return await propagate(ls, model)
+    except JsonRpcInvalidParams:
+        ls.decisions.get(model, {}).pop(feature, None)
+        raise
+
+
+def _refresh_lens(ls) -> None:
+    if ls.cap("workspace.code_lens.refresh_support", False):
+        try:
+            ls.workspace_code_lens_refresh(None)
+        except Exception:
+            pass
+
+
+def _can_create(ls) -> bool:
+    ops = ls.cap("workspace.workspace_edit.resource_operations", []) or []
+    return bool(ls.cap("workspace.workspace_edit.document_changes", False)) and any(
+        getattr(o, "value", o) == "create" for o in ops)
+
+
+async def generate_configurations(ls, opts: dict) -> dict:
+    path = _path(opts)
+    from ..server import file_kind
+    mode = opts.get("mode") or "all"
+    if mode not in ("one", "completions", "all"):
+        raise JsonRpcInvalidParams("mode must be one of: one, completions, all")
+    limit = opts.get("limit") if isinstance(opts.get("limit"), int) and opts["limit"] > 0 else ls.settings.generate_limit
+    if file_kind(path) == "tvl":
+        model = path
+        launch = _path(opts["launch"]) if opts.get("launch") else None
+        if launch is None:
+            launches = ls.launches_for_model(model)
+            if not launches:
+                raise JsonRpcInvalidParams(f"{Path(model).name} is paired with no launch file")
+            launch = launches[0]
+    else:
+        launch, model = path, model_of(ls, path)
+    analysis = await ls.parsed(launch)
+    res = await ls.parsed(model)
+    m = getattr(res, "model", None)
+    if analysis is None or m is None:
+        raise JsonRpcInvalidParams("cannot analyse the launch file or its model")
+    feature_names = {f.name for f in m.features} | {f.long_name for f in m.features}
+    features = [a.name for a in analysis.feature_args
+                if a.name in feature_names and getattr(a, "value", None) is None]
+    roots = ls.roots_for(launch)
+    try:
+        out_dir = resolve_folder(opts.get("folder") or ls.settings.generate_folder, launch, roots)
+    except GenerateError as e:
+        raise JsonRpcInvalidParams(str(e))
+    ws = ls.workspace_model(launch)
+    package = ws.package_of(launch)
+    package_dir = ws.packages.get(package) if package else None
+    sources = await ls.model_sources(model)
+    decisions = dict(ls.decisions.get(model, {}))
+    products = await _in_worker(ls, F.generation_products, model, sources, decisions, mode, limit,
+                                title="Generating configurations")
+    try:
+        files = plan_configurations(products, features, launch, out_dir, roots, package, package_dir)
+    except GenerateError as e:
+        raise JsonRpcInvalidParams(str(e))
+    if not files:
+        return {"files": [], "applied": False, "message": "no product matches the current configuration"}
+    applied = False
+    if _can_create(ls):
+        changes: list = []
+        for f in files:
+            uri = path_to_uri(f.path)
+            changes.append(types.CreateFile(uri=uri, options=types.CreateFileOptions(overwrite=True)))
+            changes.append(types.TextDocumentEdit(
+                text_document=types.OptionalVersionedTextDocumentIdentifier(uri=uri, version=None),
+                edits=[types.TextEdit(range=types.Range(start=types.Position(line=0, character=0),
+                                                        end=types.Position(line=0, character=0)),
+                                      new_text=f.text)]))
+        result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
+            edit=types.WorkspaceEdit(document_changes=changes), label="Generate configuration launch files"))
+        applied = bool(getattr(result, "applied", False))
+    else:
+        os.makedirs(out_dir, exist_ok=True)
+        for f in files:
+            with open(f.path, "w", encoding="utf-8") as fh:
+                fh.write(f.text)
+        applied = True
+        ls.info(f"tvl-lsp: wrote {len(files)} configuration launch file(s) to {out_dir}")
+    return {"files": [f.path for f in files], "applied": applied, "folder": out_dir,
+            "truncated": mode != "one" and len(products) >= limit}

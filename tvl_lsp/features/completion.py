@@ -1,0 +1,170 @@
+"""Completion: TVL keywords, feature and attribute names; launch tags and attributes,
+``$(arg `` → args in scope and features, ``$(find `` → workspace packages."""
+
+from __future__ import annotations
+
+import re
+
+from lsprotocol import types
+
+from ..lsp_convert import from_lsp_position
+from ..text import Pos
+
+TVL_KEYWORDS = [
+    "root", "group", "oneOf", "someOf", "allOf", "opt", "shared", "bool", "int", "real", "enum",
+    "struct", "const", "ifIn:", "ifOut:", "is", "in", "data", "include", "true", "false",
+    "requires", "excludes", "children", "selectedChildren", "parent", "this",
+    "sum", "mul", "min", "max", "avg", "count", "and", "or", "xor", "abs",
+]
+
+# roslaunch 1 XML: tag -> attributes (required first)
+LAUNCH_TAGS: dict[str, list[str]] = {
+    "launch": ["deprecated"],
+    "node": ["pkg", "type", "name", "args", "machine", "respawn", "respawn_delay", "required", "ns",
+             "clear_params", "output", "cwd", "launch-prefix", "if", "unless"],
+    "test": ["pkg", "type", "test-name", "name", "args", "ns", "clear_params", "cwd", "launch-prefix",
+             "retry", "time-limit", "if", "unless"],
+    "machine": ["name", "address", "env-loader", "default", "user", "password", "timeout", "if", "unless"],
+    "include": ["file", "ns", "clear_params", "pass_all_args", "if", "unless"],
+    "remap": ["from", "to", "if", "unless"],
+    "env": ["name", "value", "if", "unless"],
+    "param": ["name", "value", "type", "textfile", "binfile", "command", "if", "unless"],
+    "rosparam": ["command", "file", "param", "ns", "subst_value", "if", "unless"],
+    "group": ["ns", "clear_params", "if", "unless"],
+    "arg": ["name", "default", "value", "doc", "if", "unless"],
+}
+CHILD_TAGS = {
+    "launch": ["node", "param", "rosparam", "include", "group", "arg", "env", "machine", "remap", "test"],
+    "group": ["node", "param", "rosparam", "include", "group", "arg", "env", "machine", "remap", "test"],
+    "node": ["remap", "param", "rosparam", "env"],
+    "test": ["remap", "param", "rosparam", "env"],
+    "include": ["arg", "env"],
+}
+
+_SUBST_ARG = re.compile(r"\$\(\s*arg\s+([\w/\-.]*)$")
+_SUBST_FIND = re.compile(r"\$\(\s*find\s+([\w\-.]*)$")
+_SUBST_CMD = re.compile(r"\$\(\s*(\w*)$")
+_IN_TAG = re.compile(r"<([\w\-]+)(\s+[^<>]*)?$", re.S)
+_OPEN_TAG = re.compile(r"<([\w\-]*)$")
+
+
+def register(ls) -> None:
+    @ls.feature(types.TEXT_DOCUMENT_COMPLETION,
+                types.CompletionOptions(trigger_characters=["<", " ", "(", "."]))
+    async def completion(ls, params: types.CompletionParams):
+        doc = ls.docs.get(params.text_document.uri)
+        if doc is None or doc.kind is None:
+            return None
+        pos = from_lsp_position(doc.index, params.position, ls.encoding)
+        if doc.kind == "tvl":
+            items = await tvl_items(ls, doc, pos)
+        else:
+            items = await launch_items(ls, doc, pos)
+        return types.CompletionList(is_incomplete=False, items=items)
+
+
+def _item(label, kind, detail=None, sort=None, insert=None):
+    return types.CompletionItem(label=label, kind=kind, detail=detail, sort_text=sort, insert_text=insert)
+
+
+async def tvl_items(ls, doc, pos: Pos):
+    line = doc.index.line_text(pos.line)[: pos.col]
+    items = []
+    res = ls.parsed_now(doc.path) or await ls.parsed(doc.path)
+    model = getattr(res, "model", None)
+    m = re.search(r"([A-Za-z_][\w]*)\.([\w]*)$", line)
+    if m and model is not None:
+        f = model.feature(m.group(1))
+        if f is not None:
+            for a in f.attributes:
+                items.append(_item(a.name, types.CompletionItemKind.Field, f"{a.type} attribute of {f.name}"))
+            for c in f.children:
+                items.append(_item(c.name, types.CompletionItemKind.Class, f"child of {f.name}"))
+            return items
+    for kw in TVL_KEYWORDS:
+        items.append(_item(kw, types.CompletionItemKind.Keyword, sort="2" + kw))
+    if model is not None:
+        seen = set()
+        for f in model.features:
+            if f.name in seen:
+                continue
+            seen.add(f.name)
+            items.append(_item(f.name, types.CompletionItemKind.Class, "feature " + f.long_name, "1" + f.name))
+            for a in f.attributes:
+                items.append(_item(a.name, types.CompletionItemKind.Field,
+                                   f"{a.type} attribute of {f.name}", "1" + a.name))
+        for c in model.constants:
+            items.append(_item(c.name, types.CompletionItemKind.Constant, f"const {c.type}", "1" + c.name))
+        for t in model.types:
+            items.append(_item(t.name, types.CompletionItemKind.TypeParameter, f"type ({t.base})", "1" + t.name))
+    return items
+
+
+def _enclosing_tag(text_before: str) -> str:
+    """The innermost open element before the cursor (a cheap scan; good enough to rank tags)."""
+    stack = []
+    for m in re.finditer(r"<(/?)([\w\-]+)[^<>]*?(/?)>", text_before):
+        if m.group(1):
+            if stack and stack[-1] == m.group(2):
+                stack.pop()
+        elif not m.group(3):
+            stack.append(m.group(2))
+    return stack[-1] if stack else ""
+
+
+async def launch_items(ls, doc, pos: Pos):
+    offset = doc.index.offset(pos)
+    before = doc.text[max(0, offset - 4000): offset]
+    line = doc.index.line_text(pos.line)[: pos.col]
+    m = _SUBST_ARG.search(line)
+    if m:
+        return await arg_items(ls, doc)
+    m = _SUBST_FIND.search(line)
+    if m:
+        try:
+            pkgs = ls.workspace_model(doc.path).packages
+        except Exception:
+            pkgs = {}
+        return [_item(name, types.CompletionItemKind.Module, folder) for name, folder in sorted(pkgs.items())]
+    m = _SUBST_CMD.search(line)
+    if m:
+        return [_item(c, types.CompletionItemKind.Function, "substitution")
+                for c in ("arg", "find", "env", "optenv", "anon", "dirname", "eval")]
+    m = _OPEN_TAG.search(line)
+    if m:
+        parent = _enclosing_tag(before[: len(before) - len(m.group(0))])
+        tags = CHILD_TAGS.get(parent, list(LAUNCH_TAGS))
+        return [_item(t, types.CompletionItemKind.Keyword, f"<{t}>", f"{i:02d}") for i, t in enumerate(tags)]
+    m = _IN_TAG.search(before)
+    if m and not re.search(r"=\s*\"[^\"]*$", before[m.start():]) and not re.search(r"=\s*'[^']*$", before[m.start():]):
+        tag = m.group(1)
+        present = set(re.findall(r"([\w\-]+)\s*=", m.group(2) or ""))
+        attrs = [a for a in LAUNCH_TAGS.get(tag, []) if a not in present]
+        return [_item(a, types.CompletionItemKind.Property, f"attribute of <{tag}>", f"{i:02d}")
+                for i, a in enumerate(attrs)]
+    return []
+
+
+async def arg_items(ls, doc):
+    items = []
+    seen = set()
+    analysis = ls.parsed_now(doc.path) or await ls.parsed(doc.path)
+    if analysis is not None and hasattr(analysis, "elements"):
+        for e in analysis.elements:
+            if e.path == doc.path and e.tag == "arg" and "name" in e.attrs:
+                if e.parent is not None and e.parent.tag == "include":
+                    continue
+                n = e.attrs["name"].value
+                if n not in seen:
+                    seen.add(n)
+                    items.append(_item(n, types.CompletionItemKind.Variable, "arg", "1" + n))
+    for mp in ls.models_for_launch(doc.path):
+        res = await ls.parsed(mp)
+        model = getattr(res, "model", None)
+        if model is None:
+            continue
+        for f in model.features:
+            if f.name not in seen:
+                seen.add(f.name)
+                items.append(_item(f.name, types.CompletionItemKind.Class, "feature (no <arg> yet)", "2" + f.name))
+    return items

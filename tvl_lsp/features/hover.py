@@ -1,0 +1,218 @@
+"""Hover: features (in the model, or as ``<arg>`` / ``$(arg X)`` in a launch file) with their
+product counts; the root with the total; launch elements with their presence condition."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Optional
+
+from lsprotocol import types
+
+from ..lsp_convert import from_lsp_position, to_lsp_range
+from ..tvl import model as M
+from . import _facts as F
+
+HOVER_WAIT = 0.3  # seconds a hover waits for counts before answering without them
+
+
+def register(ls) -> None:
+    @ls.feature(types.TEXT_DOCUMENT_HOVER)
+    async def hover(ls, params: types.HoverParams):
+        doc = ls.docs.get(params.text_document.uri)
+        if doc is None or doc.kind is None:
+            return None
+        pos = from_lsp_position(doc.index, params.position, ls.encoding)
+        if doc.kind == "tvl":
+            md, span = await tvl_hover(ls, doc.path, pos)
+        else:
+            md, span = await launch_hover(ls, doc, pos)
+        if not md:
+            return None
+        rng = to_lsp_range(doc.index, span, ls.encoding) if span is not None else None
+        return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=md), range=rng)
+
+
+def _rel(ls, path: str) -> str:
+    root = ls.workspace_root_for(path)
+    if root:
+        return os.path.relpath(path, root)
+    return Path(path).name
+
+
+def count_line(facts, f: M.Feature) -> str:
+    if facts is None:
+        return "products: counting… (hover again in a moment)"
+    if facts.error and facts.total is None:
+        return f"products: not counted ({facts.error})"
+    total = facts.total
+    if f.is_root or f.parent is None:
+        return f"**{total} products** in total" if total is not None else "products: unknown"
+    n = facts.per_feature.get(f.long_name, facts.per_feature.get(f.name))
+    if n is None or total is None:
+        return "products: unknown"
+    return f"in **{n} of {total} products** ({F.percent(n, total)})"
+
+
+def feature_markdown(ls, f: M.Feature, facts) -> str:
+    kind = "root feature" if (f.is_root or f.parent is None) else "feature"
+    lines = [f"**{kind}** `{f.long_name}`", ""]
+    if f.parent is not None:
+        parents = ", ".join(f"`{p.name}`" for p in f.parents)
+        lines.append(f"- parent: {parents}")
+        g = f.parent.group
+        if g is not None:
+            lines.append(f"- in the group `{F.group_text(g)}` of `{f.parent.name}`; "
+                         + ("optional (`opt`)" if f.optional else "mandatory"))
+    else:
+        lines.append("- the root: selected in every product")
+    if f.group is not None:
+        kids = ", ".join(("opt " if c.optional else "") + c.feature.name for c in f.group.children)
+        lines.append(f"- group `{F.group_text(f.group)}` over {kids}")
+    if facts is not None and not (f.is_root or f.parent is None):
+        flags = []
+        for label, names in (("core (in every product)", facts.core), ("dead (in no product)", facts.dead),
+                             ("false-optional (declared optional, yet in every product with its parent)",
+                              facts.false_optional)):
+            if f.long_name in names or f.name in names:
+                flags.append(label)
+        if flags:
+            lines.append("- " + "; ".join(flags))
+    for a in f.attributes:
+        extra = ""
+        if a.value is not None:
+            extra = " (computed)"
+        elif a.domain is not None:
+            extra = " (in a domain)"
+        lines.append(f"- attribute `{a.type} {a.name}`{extra}")
+    if f.constraints:
+        lines.append(f"- {len(f.constraints)} constraint(s)")
+    lines.append("")
+    lines.append(count_line(facts, f))
+    return "\n".join(lines)
+
+
+async def tvl_hover(ls, path: str, pos):
+    res = await ls.parsed(path)
+    model = getattr(res, "model", None)
+    if model is None:
+        return None, None
+    hit = F.name_at(model, path, pos)
+    if hit is None or hit[0] is None:
+        return None, None
+    target, span = hit
+    if isinstance(target, M.Feature):
+        facts = await ls.model_facts(path, wait=HOVER_WAIT)
+        return feature_markdown(ls, target, facts), span
+    if isinstance(target, M.Attribute):
+        owner = f" of `{target.owner.long_name}`" if target.owner else ""
+        return f"**attribute** `{target.type} {target.name}`{owner}", span
+    if isinstance(target, M.Constant):
+        return f"**constant** `{target.type} {target.name}`", span
+    if isinstance(target, M.TypeDecl):
+        return f"**type** `{target.name}` ({target.base})", span
+    if isinstance(target, M.EnumValue):
+        return f"**enum value** `{target.name}`", span
+    return None, None
+
+
+async def paired_feature(ls, launch_path: str, name: str):
+    """(model path, feature) of the paired model's feature named ``name``."""
+    for mp in ls.models_for_launch(launch_path):
+        res = await ls.parsed(mp)
+        model = getattr(res, "model", None)
+        if model is None:
+            continue
+        f = model.feature(name)
+        if f is not None:
+            return mp, f
+    return None, None
+
+
+def _arg_markdown(ls, decls) -> list[str]:
+    lines = []
+    for e in decls:
+        a = e.attrs
+        bits = []
+        if "value" in a:
+            bits.append(f"value `{a['value'].value}`")
+        if "default" in a:
+            bits.append(f"default `{a['default'].value}`")
+        if not bits:
+            bits.append("no value: it must be set by the includer or on the command line")
+        where = f"{_rel(ls, e.path)}:{e.span.start}"
+        cond = "" if str(e.condition) == "true" else f" when `{e.condition}`"
+        lines.append(f"- `<arg name=\"{a['name'].value}\">` at {where}: " + ", ".join(bits) + cond)
+        if "doc" in a:
+            lines.append(f"  - {a['doc'].value}")
+    return lines
+
+
+async def arg_markdown(ls, doc, analysis, name: str) -> str:
+    lines = []
+    mp, f = await paired_feature(ls, doc.path, name)
+    if f is not None:
+        facts = await ls.model_facts(mp, wait=HOVER_WAIT)
+        lines.append(feature_markdown(ls, f, facts))
+        lines.append("")
+        lines.append(f"feature of {_rel(ls, mp)}")
+        lines.append("")
+    decls = F.arg_decls(analysis, doc.path, name)
+    if decls:
+        lines.append(f"**arg** `{name}`")
+        lines.extend(_arg_markdown(ls, decls))
+    elif f is None:
+        lines.append(f"**arg** `{name}`: not declared in this file")
+    return "\n".join(lines)
+
+
+async def launch_hover(ls, doc, pos):
+    analysis = await ls.parsed(doc.path)
+    if analysis is None or not hasattr(analysis, "elements"):
+        return None, None
+    hit = F.subst_at(analysis, doc.path, pos)
+    if hit is not None:
+        el, s = hit
+        if s.kind == "arg" and s.args:
+            return await arg_markdown(ls, doc, analysis, s.args[0]), s.span
+        if s.kind == "find" and s.args:
+            pkg_dir = None
+            try:
+                pkg_dir = ls.workspace_model(doc.path).packages.get(s.args[0])
+            except Exception:
+                pass
+            where = f"`{pkg_dir}`" if pkg_dir else "not in this workspace"
+            return f"**package** `{s.args[0]}`: {where}", s.span
+    el = F.element_at(analysis, doc.path, pos)
+    if el is None:
+        return None, None
+    if el.tag == "arg" and "name" in el.attrs and el.attrs["name"].value_span.contains(pos):
+        return await arg_markdown(ls, doc, analysis, el.attrs["name"].value), el.attrs["name"].value_span
+    return await element_markdown(ls, doc, el), el.tag_span or el.span
+
+
+async def element_markdown(ls, doc, el) -> str:
+    name = el.attrs.get("name").value if "name" in el.attrs else None
+    head = f"**<{el.tag}>**" + (f" `{name}`" if name else "")
+    cond = el.condition
+    text = str(cond)
+    lines = [head, ""]
+    if text == "true":
+        lines.append("loaded in every product (no condition)")
+    elif text == "false":
+        lines.append("loaded in **no** product")
+    else:
+        lines.append(f"loaded when `{text}`")
+    models = ls.models_for_launch(doc.path)
+    if models and text not in ("false",):
+        mp = models[0]
+        facts = await ls.model_facts(mp, wait=HOVER_WAIT)
+        total = facts.total if facts else None
+        n = total if text == "true" else await ls.count_under(mp, cond, wait=HOVER_WAIT)
+        if n is not None and total is not None:
+            lines.append("")
+            lines.append(f"loaded in **{n} of {total} products** ({F.percent(n, total)}) of {_rel(ls, mp)}")
+        else:
+            lines.append("")
+            lines.append("products: counting… (hover again in a moment)")
+    return "\n".join(lines)

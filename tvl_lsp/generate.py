@@ -1,0 +1,178 @@
+"""Configuration launch files (the thesis's Listing 6.1).  Pure: no LSP here.
+
+A configuration launch file sets every feature arg of a generic launch file to ``true`` or
+``false`` and includes the generic file through ``$(find pkg)``, passing each arg on::
+
+    <launch>
+      <arg name="Turtlerand" value="true"/>
+      ...
+      <include file="$(find turtlerand)/launch/generic.launch">
+        <arg name="Turtlerand" value="$(arg Turtlerand)"/>
+        ...
+      </include>
+    </launch>
+
+Names are deterministic (derived from the selected features) and files are only ever
+planned inside one of the given workspace roots.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterable, Mapping, Optional, Sequence
+
+from xml.sax.saxutils import quoteattr
+
+
+@dataclass(frozen=True)
+class GeneratedFile:
+    path: str
+    text: str
+    product: dict[str, bool] = field(default_factory=dict, compare=False)
+
+
+class GenerateError(ValueError):
+    """A request that cannot be satisfied (e.g. a folder outside the workspace)."""
+
+
+# ------------------------------------------------------------------ packages
+
+_NAME_RE = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
+
+
+def find_package(path: str, read_file=None, stop_at: Sequence[str] = ()) -> tuple[Optional[str], Optional[str]]:
+    """The catkin package containing ``path``: (package name, package folder) or (None, None).
+
+    Looks for the nearest ``package.xml`` upwards and reads its ``<name>`` (no XML parser:
+    the file is never trusted with entities)."""
+    p = Path(path).absolute()
+    stops = {str(Path(s).absolute()) for s in stop_at}
+    for d in [p.parent, *p.parent.parents]:
+        manifest = d / "package.xml"
+        text = None
+        try:
+            if read_file is not None:
+                text = read_file(str(manifest))
+            elif manifest.is_file():
+                text = manifest.read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            text = None
+        if text:
+            m = _NAME_RE.search(text)
+            if m:
+                return m.group(1), str(d)
+        if str(d) in stops:
+            break
+    return None, None
+
+
+# ------------------------------------------------------------------ products
+
+def normalise_product(product, features: Sequence[str]) -> dict[str, bool]:
+    """A product as the analyses give it (a mapping name -> bool, or the set of selected
+    names; names long "Root.A" or short "A") -> {feature arg: bool} for ``features``."""
+    if isinstance(product, Mapping):
+        selected = {str(k) for k, v in product.items() if v}
+    else:
+        selected = {str(x) for x in product}
+    short = {s.rsplit(".", 1)[-1] for s in selected}
+    return {f: (f in selected or f in short) for f in features}
+
+
+def configuration_name(product: Mapping[str, bool], features: Sequence[str], prefix: str = "config") -> str:
+    """Deterministic file name for a product: the selected features, in ``features`` order."""
+    on = [f for f in features if product.get(f)]
+    body = "-".join(re.sub(r"[^A-Za-z0-9_]+", "_", f).lower() for f in on) or "none"
+    if len(body) > 80:
+        digest = hashlib.sha1("|".join(on).encode()).hexdigest()[:10]
+        body = f"{body[:60]}-{digest}"
+    return f"{prefix}_{body}.launch"
+
+
+def include_target(generic_path: str, package: Optional[str], package_dir: Optional[str],
+                   out_dir: Optional[str] = None) -> str:
+    """How the configuration file names the generic file: ``$(find pkg)/rel`` when the
+    generic file is in a package, else ``$(dirname)/rel`` relative to ``out_dir``."""
+    gp = Path(generic_path).absolute()
+    if package and package_dir:
+        try:
+            rel = gp.relative_to(Path(package_dir).absolute())
+            return f"$(find {package})/{rel.as_posix()}"
+        except ValueError:
+            pass
+    if out_dir:
+        rel = os.path.relpath(gp, Path(out_dir).absolute())
+        return f"$(dirname)/{Path(rel).as_posix()}"
+    return gp.as_posix()
+
+
+def render_configuration(product: Mapping[str, bool], features: Sequence[str], include_file: str,
+                         indent: str = "  ") -> str:
+    """The text of one configuration launch file (Listing 6.1)."""
+    lines = ["<launch>"]
+    for f in features:
+        lines.append(f'{indent}<arg name={quoteattr(f)} value="{"true" if product.get(f) else "false"}"/>')
+    lines.append(f"{indent}<include file={quoteattr(include_file)}>")
+    for f in features:
+        lines.append(f'{indent * 2}<arg name={quoteattr(f)} value={quoteattr(f"$(arg {f})")}/>')
+    lines.append(f"{indent}</include>")
+    lines.append("</launch>")
+    return "\n".join(lines) + "\n"
+
+
+def inside(path: str, roots: Iterable[str]) -> bool:
+    """Is ``path`` (after resolving ``..`` and symlinks) inside one of ``roots``?"""
+    try:
+        p = Path(os.path.realpath(path))
+    except (OSError, ValueError):
+        return False
+    for r in roots:
+        try:
+            p.relative_to(Path(os.path.realpath(r)))
+            return True
+        except ValueError:
+            continue
+    return False
+
+
+def resolve_folder(folder: Optional[str], generic_path: str, roots: Sequence[str]) -> str:
+    """The output folder: ``folder`` (absolute, or relative to the generic file's package
+    folder — else to the first workspace root), default ``configs`` beside the generic
+    file's ``launch`` folder.  Raises GenerateError when it is outside every root."""
+    _, pkg_dir = find_package(generic_path, stop_at=roots)
+    base = Path(pkg_dir) if pkg_dir else (Path(roots[0]) if roots else Path(generic_path).parent)
+    if not folder:
+        out = base / "configs"
+    elif os.path.isabs(folder):
+        out = Path(folder)
+    else:
+        out = base / folder
+    out = Path(os.path.normpath(str(out.absolute())))
+    if roots and not inside(str(out), roots):
+        raise GenerateError(f"the folder {out} is outside the workspace; choose a folder inside it")
+    return str(out)
+
+
+def plan_configurations(products: Iterable, features: Sequence[str], generic_path: str, out_dir: str,
+                        roots: Sequence[str] = (), package: Optional[str] = None,
+                        package_dir: Optional[str] = None, prefix: Optional[str] = None,
+                        indent: str = "  ", limit: Optional[int] = None) -> list[GeneratedFile]:
+    """One :class:`GeneratedFile` per product (at most ``limit``), sorted by path."""
+    if package is None and package_dir is None:
+        package, package_dir = find_package(generic_path, stop_at=roots)
+    target = include_target(generic_path, package, package_dir, out_dir)
+    prefix = prefix or Path(generic_path).name.split(".")[0]
+    files: dict[str, GeneratedFile] = {}
+    for i, prod in enumerate(products):
+        if limit is not None and i >= limit:
+            break
+        p = normalise_product(prod, features)
+        path = str(Path(out_dir) / configuration_name(p, features, prefix))
+        if roots and not inside(path, roots):
+            raise GenerateError(f"{path} would be outside the workspace")
+        files[path] = GeneratedFile(path, render_configuration(p, features, target, indent), p)
+    return [files[k] for k in sorted(files)]

@@ -1,0 +1,154 @@
+"""Plain data produced by the launch front end (no LSP types)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+from ..analysis.formula import FALSE, Formula
+from ..diagnostics import Diagnostic, Severity
+from ..text import Span
+
+
+@dataclass(frozen=True)
+class Attr:
+    name: str
+    value: str
+    name_span: Span
+    value_span: Span
+
+
+@dataclass(frozen=True)
+class Subst:
+    """One ``$(...)`` inside an attribute value: kind is the command (``arg``, ``find``,
+    ``env``, ``optenv``, ``anon``, ``dirname``, ``eval`` or an unknown word), args its
+    words, span the whole ``$(...)`` in the source, attr the attribute holding it."""
+    kind: str
+    args: tuple[str, ...]
+    span: Span
+    attr: str
+
+
+@dataclass(eq=False)
+class Element:
+    """One XML element as loaded from one file at one include site.
+
+    ``condition`` is the formula over arg names (feature args) under which roslaunch
+    processes the element (its own if/unless and those of all its ancestors and of the
+    include chain); FALSE if it is never loaded (e.g. children of a non-node tag)."""
+    tag: str
+    span: Span
+    attrs: dict[str, Attr]
+    path: str
+    condition: Formula = FALSE
+    parent: Optional["Element"] = None
+    children: list["Element"] = field(default_factory=list)
+    substitutions: list[Subst] = field(default_factory=list)
+    tag_span: Optional[Span] = None
+    text: str = ""
+    include_depth: int = 0     # 0: the analysed file; n: n includes deep
+    unresolved: bool = False   # <include> whose file is outside the workspace / unknown
+    resolved_file: Optional[str] = None  # <include>: the file that was followed
+
+    def __repr__(self) -> str:  # keep reprs short (the tree is cyclic)
+        return f"Element(<{self.tag}> {self.path}:{self.span.start} if {self.condition})"
+
+
+@dataclass
+class ArgDecl:
+    name: str
+    span: Span               # the <arg> start tag
+    name_span: Span          # the VALUE of the name attribute
+    default: Optional[str] = None
+    value: Optional[str] = None
+    doc: Optional[str] = None
+    path: str = ""
+    element: Optional[Element] = None
+
+
+@dataclass
+class NodeFact:
+    """A node roslaunch loads when ``condition`` holds. ``name`` is the resolved global name
+    (``/ns/talker``); when the name depends on an arg value there is one fact per case, with
+    the case in the condition. ``is_test``: a <test> tag (not a node for duplicates)."""
+    name: str
+    pkg: str
+    type: str
+    namespace: str
+    element: Element
+    condition: Formula
+    path: str = ""
+    args: str = ""
+    remaps: list[tuple[str, str]] = field(default_factory=list)
+    is_test: bool = False
+
+
+@dataclass
+class ErrorFact:
+    """A load-time error roslaunch raises (or a warning it prints) when ``condition`` holds.
+
+    Codes (all registered in :mod:`tvl_lsp.diagnostics`):
+
+    - ``undefined-arg``: ``$(arg X)`` evaluated where X is not declared in scope (roslaunch:
+      "requires the 'X' arg to be set" / "arg 'X' is not defined");
+    - ``unset-arg``: ``$(arg X)`` where X is declared without value/default and nothing sets it;
+    - ``duplicate-arg``: an ``<arg>`` declared twice in the same scope;
+    - ``arg-already-set``: ``<arg value=...>`` for an arg that already has a value;
+    - ``invalid-condition``: if/unless evaluates to something other than true/false/1/0;
+    - ``duplicate-node``: two nodes with the same resolved name both loaded (c1 and c2);
+    - ``unused-include-arg``: an arg passed to an include that the included file never declares;
+    - ``include-arg-no-value``: an ``<arg>`` inside ``<include>`` without value/default;
+    - the rest are the attribute/tag checks of roslaunch's XmlLoader (see ``CODES``).
+    """
+    code: str
+    severity: Severity
+    message: str
+    path: str
+    span: Span
+    condition: Formula
+    related: list[tuple[str, Span, str]] = field(default_factory=list)
+
+
+@dataclass
+class IncludeFact:
+    element: Element
+    file: Optional[str]        # resolved file name (None if it could not be resolved)
+    condition: Formula
+    followed: bool
+    package: Optional[str] = None
+    children: list["IncludeFact"] = field(default_factory=list)
+    namespace: str = "/"
+
+
+@dataclass
+class ParamFact:
+    name: str
+    value: str
+    element: Element
+    condition: Formula
+
+
+@dataclass
+class LaunchAnalysis:
+    path: str
+    diagnostics: list[Diagnostic]
+    feature_args: list[ArgDecl]
+    free_args: list[str]                # args treated as free booleans in the symbolic load
+    elements: list[Element]
+    nodes: list[NodeFact]
+    facts: list[ErrorFact]
+    includes: list[IncludeFact]
+    params: list[ParamFact]
+    root: Optional[Element] = None
+
+
+@dataclass
+class LoadResult:
+    """What roslaunch loads for one assignment of args (first error in ``error``)."""
+    nodes: list[dict]
+    params: dict[str, str]
+    remaps: list[dict]
+    includes: list[dict]
+    error: Optional[str]
+    error_code: Optional[str] = None
+    warnings: list[str] = field(default_factory=list)

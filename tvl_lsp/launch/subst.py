@@ -1,0 +1,238 @@
+"""roslaunch substitution args: tokenizer with positions and a small ``$(eval)`` interpreter.
+
+The tokenizer is roslaunch's ``_collect_args`` state machine (same quirks, same errors);
+the eval interpreter accepts the safe subset of Python that launch files use (literals,
+arg names, ``arg('x')``, comparisons, and/or/not, arithmetic, conditional expressions,
+math functions, ``env``/``optenv``, ``str``/``int``/``float``) and says "not analysable"
+for anything else instead of guessing.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+import operator
+from typing import Callable, Mapping
+
+VALID = ("find", "env", "optenv", "dirname", "anon", "arg")
+
+
+class SubstError(Exception):
+    pass
+
+
+def collect(s: str) -> list[tuple[str, int, int]]:
+    """The ``$(...)`` of ``s`` as (inner text, start of '$', end after ')'), in order."""
+    out: list[tuple[str, int, int]] = []
+    OUT, DOLLAR, LP, IN = 0, 1, 2, 3
+    state = OUT
+    buf: list[str] = []
+    start = 0
+    for i, c in enumerate(s):
+        if c == "$":
+            if state == OUT:
+                state = DOLLAR
+                start = i
+            elif state == DOLLAR:
+                start = i
+            else:
+                raise SubstError(f"Dollar signs '$' cannot be inside of substitution args [{s}]")
+        elif c == "(":
+            if state == DOLLAR:
+                state = LP
+            elif state != OUT:
+                raise SubstError(f"Invalid left parenthesis '(' in substitution args [{s}]")
+        elif c == ")":
+            if state == IN:
+                out.append(("".join(buf), start, i + 1))
+                buf = []
+            state = OUT
+        elif state == DOLLAR:
+            state = OUT
+        elif state == LP:
+            state = IN
+        if state == IN:
+            buf.append(c)
+    return out
+
+
+def is_eval(s: str) -> bool:
+    return s.startswith("$(eval ") and s.endswith(")")
+
+
+def convert_auto(value: str):
+    """roslaunch's ``convert_value(value, 'auto')``."""
+    try:
+        if "." in value:
+            return float(value)
+        if "_" not in value:
+            return int(value)
+    except ValueError:
+        pass
+    lv = value.lower()
+    if lv == "true":
+        return True
+    if lv == "false":
+        return False
+    return value
+
+
+class NotAnalysable(Exception):
+    pass
+
+
+class EvalArgMissing(Exception):
+    """``arg('x')`` or a bare name x with no value."""
+
+    def __init__(self, name: str):
+        super().__init__(name)
+        self.name = name
+
+
+_MATH = {k: v for k, v in math.__dict__.items() if not k.startswith("_")}
+_CONSTS = {"true": True, "false": False, "True": True, "False": False}
+_SAFE_FUNCS = {"str": str, "int": int, "float": float, "list": list, "dict": dict, "map": map}
+_RESERVED = set(_CONSTS) | set(_MATH) | set(_SAFE_FUNCS) | {"arg", "env", "optenv", "find", "anon", "dirname"}
+
+_BIN = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
+        ast.FloorDiv: operator.floordiv, ast.Mod: operator.mod, ast.Pow: operator.pow}
+_CMP = {ast.Eq: operator.eq, ast.NotEq: operator.ne, ast.Lt: operator.lt, ast.LtE: operator.le,
+        ast.Gt: operator.gt, ast.GtE: operator.ge, ast.In: lambda a, b: a in b,
+        ast.NotIn: lambda a, b: a not in b, ast.Is: operator.is_, ast.IsNot: operator.is_not}
+
+
+def parse_eval(expr: str) -> ast.Expression:
+    if "__" in expr:
+        raise SubstError("$(eval ...) may not contain double underscore expressions")
+    try:
+        return ast.parse(expr.strip(), mode="eval")
+    except SyntaxError as e:
+        raise SubstError(f"invalid $(eval) expression: {e.msg}") from None
+
+
+def eval_names(tree: ast.Expression) -> tuple[set[str], bool]:
+    """Arg names the expression reads, and whether it only uses the supported subset."""
+    names: set[str] = set()
+    ok = True
+    for n in ast.walk(tree):
+        if isinstance(n, ast.Call):
+            f = n.func
+            if isinstance(f, ast.Name) and f.id == "arg":
+                if len(n.args) == 1 and isinstance(n.args[0], ast.Constant) and isinstance(n.args[0].value, str):
+                    names.add(n.args[0].value)
+                else:
+                    ok = False
+            elif not (isinstance(f, ast.Name) and f.id in _RESERVED and f.id not in ("find", "anon", "dirname")):
+                ok = False
+        elif isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load):
+            if n.id not in _RESERVED:
+                names.add(n.id)
+        elif isinstance(n, (ast.Attribute, ast.Subscript, ast.Lambda, ast.ListComp, ast.DictComp,
+                            ast.SetComp, ast.GeneratorExp, ast.NamedExpr, ast.Starred)):
+            ok = False
+    return names, ok
+
+
+def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, str]) -> str:
+    """Evaluate like roslaunch's ``_eval`` (result as ``str``). Raises EvalArgMissing,
+    NotAnalysable, or SubstError (a runtime error roslaunch would raise)."""
+
+    def lookup(name: str):
+        if name in _CONSTS:
+            return _CONSTS[name]
+        if name in _MATH:
+            return _MATH[name]
+        if name in _SAFE_FUNCS:
+            return _SAFE_FUNCS[name]
+        if name in args:
+            return convert_auto(args[name])
+        raise EvalArgMissing(name)
+
+    def ev(n):
+        if isinstance(n, ast.Expression):
+            return ev(n.body)
+        if isinstance(n, ast.Constant):
+            return n.value
+        if isinstance(n, ast.Name):
+            return lookup(n.id)
+        if isinstance(n, ast.BoolOp):
+            if isinstance(n.op, ast.And):
+                v = True
+                for x in n.values:
+                    v = ev(x)
+                    if not v:
+                        return v
+                return v
+            v = False
+            for x in n.values:
+                v = ev(x)
+                if v:
+                    return v
+            return v
+        if isinstance(n, ast.UnaryOp):
+            v = ev(n.operand)
+            if isinstance(n.op, ast.Not):
+                return not v
+            if isinstance(n.op, ast.USub):
+                return -v
+            if isinstance(n.op, ast.UAdd):
+                return +v
+            raise NotAnalysable()
+        if isinstance(n, ast.BinOp):
+            op = _BIN.get(type(n.op))
+            if op is None:
+                raise NotAnalysable()
+            a, b = ev(n.left), ev(n.right)
+            if op is operator.pow and isinstance(b, (int, float)) and abs(b) > 1000:
+                raise NotAnalysable()
+            if op is operator.mul and (isinstance(a, str) or isinstance(b, str)):
+                if (isinstance(a, int) and a > 10000) or (isinstance(b, int) and b > 10000):
+                    raise NotAnalysable()
+            return op(a, b)
+        if isinstance(n, ast.Compare):
+            left = ev(n.left)
+            for op, right in zip(n.ops, n.comparators):
+                r = ev(right)
+                if not _CMP[type(op)](left, r):
+                    return False
+                left = r
+            return True
+        if isinstance(n, ast.IfExp):
+            return ev(n.body) if ev(n.test) else ev(n.orelse)
+        if isinstance(n, (ast.Tuple, ast.List)):
+            vals = [ev(x) for x in n.elts]
+            return tuple(vals) if isinstance(n, ast.Tuple) else vals
+        if isinstance(n, ast.Call):
+            if not isinstance(n.func, ast.Name) or n.keywords:
+                raise NotAnalysable()
+            fname = n.func.id
+            vals = [ev(x) for x in n.args]
+            if fname == "arg":
+                name = vals[0]
+                if name not in args:
+                    raise EvalArgMissing(name)
+                return convert_auto(args[name])
+            if fname == "env":
+                if vals[0] not in env:
+                    raise SubstError(f"environment variable '{vals[0]}' is not set")
+                return env[vals[0]]
+            if fname == "optenv":
+                return env.get(vals[0], vals[1] if len(vals) > 1 else "")
+            f = _MATH.get(fname) or _SAFE_FUNCS.get(fname)
+            if f is None or not callable(f):
+                raise NotAnalysable()
+            return f(*vals)
+        raise NotAnalysable()
+
+    try:
+        return str(ev(tree))
+    except (EvalArgMissing, NotAnalysable, SubstError):
+        raise
+    except RecursionError:
+        raise NotAnalysable() from None
+    except Exception as e:  # a runtime error roslaunch's eval would raise too
+        raise SubstError(f"$(eval) failed: {type(e).__name__}: {e}") from None
+
+
+def anon_name(ident: str, counter: Callable[[], int]) -> str:
+    return f"{ident}_anon{counter()}"

@@ -1,0 +1,350 @@
+"""Secure XML parsing of roslaunch files with exact source ranges.
+
+lxml checks well-formedness (entities are never resolved, no DTD is loaded, nothing touches
+the network, huge trees are refused); a small scanner over the raw text finds the exact
+position of every start tag, attribute name and attribute value, and the two are matched in
+document order.  Columns are code points (see :mod:`tvl_lsp.text`).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from lxml import etree
+
+from ..diagnostics import Diagnostic, Severity, register
+from ..text import LineIndex, Pos, Span
+
+XML_SYNTAX = register("xml-syntax", Severity.ERROR, "The file is not well-formed XML", "launch")
+XML_ENTITY = register("xml-entity-declaration", Severity.ERROR,
+                      "The file declares XML entities (refused: entities are never expanded)", "launch")
+XML_TOO_LARGE = register("launch-file-too-large", Severity.ERROR,
+                         "The file is too large to analyse", "launch")
+XML_TOO_DEEP = register("launch-too-deep", Severity.ERROR,
+                        "Elements are nested too deeply to analyse", "launch")
+
+MAX_TEXT = 20_000_000      # characters
+MAX_DEPTH = 200            # element nesting analysed
+
+
+@dataclass
+class XAttr:
+    name: str
+    value: str
+    name_span: Span
+    value_span: Span          # inside the quotes
+    value_offsets: list[int] | None = None  # decoded index -> raw offset (None: identity from value start)
+    value_start: int = 0      # raw offset of the first character inside the quotes
+
+
+@dataclass
+class XElement:
+    tag: str
+    span: Span                     # the start tag, '<' to '>'
+    attrs: dict[str, XAttr]
+    children: list["XElement"] = field(default_factory=list)
+    text: str = ""                 # direct text and CDATA children, concatenated
+    line: int = 0
+    tag_span: Span | None = None   # the tag name inside the start tag
+
+
+@dataclass
+class XmlDoc:
+    path: str
+    text: str
+    index: LineIndex
+    root: XElement | None
+    diagnostics: list[Diagnostic]
+    refused: bool = False          # entity declarations: nothing analysed
+
+
+# ---------------------------------------------------------------- raw scanner
+
+_NAME = re.compile(r"[^\s/>=<\"']+")
+_WS = re.compile(r"\s*")
+_ENTITY_REF = re.compile(r"&(#x[0-9A-Fa-f]+|#[0-9]+|[A-Za-z_][\w.-]*);")
+_PREDEF = {"lt": "<", "gt": ">", "amp": "&", "quot": '"', "apos": "'"}
+
+
+@dataclass
+class _RawTag:
+    name: str
+    start: int
+    end: int
+    name_start: int
+    attrs: list[tuple[str, int, int, int, int]]  # name, name_start, name_end, vstart, vend
+
+
+def _scan(text: str) -> list[_RawTag]:
+    """Start tags in document order (comments, CDATA, PIs and DOCTYPE skipped)."""
+    out: list[_RawTag] = []
+    i = 0
+    n = len(text)
+    find = text.find
+    while True:
+        i = find("<", i)
+        if i < 0 or i + 1 >= n:
+            break
+        c = text[i + 1]
+        if text.startswith("<!--", i):
+            j = find("-->", i + 4)
+            i = n if j < 0 else j + 3
+            continue
+        if text.startswith("<![CDATA[", i):
+            j = find("]]>", i + 9)
+            i = n if j < 0 else j + 3
+            continue
+        if c == "?":
+            j = find("?>", i + 2)
+            i = n if j < 0 else j + 2
+            continue
+        if c == "!":
+            # DOCTYPE, possibly with an internal subset [...]
+            j = i + 2
+            depth = 0
+            while j < n:
+                ch = text[j]
+                if ch == "[":
+                    depth += 1
+                elif ch == "]":
+                    depth -= 1
+                elif ch == ">" and depth <= 0:
+                    break
+                elif ch in "\"'":
+                    k = find(ch, j + 1)
+                    j = n if k < 0 else k
+                j += 1
+            i = j + 1
+            continue
+        if c == "/":
+            j = find(">", i + 2)
+            i = n if j < 0 else j + 1
+            continue
+        m = _NAME.match(text, i + 1)
+        if not m:
+            i += 1
+            continue
+        tag = _RawTag(m.group(0), i, i, m.start(), [])
+        j = m.end()
+        while j < n:
+            j = _WS.match(text, j).end()
+            if j >= n:
+                break
+            ch = text[j]
+            if ch == ">":
+                j += 1
+                break
+            if ch == "/" and j + 1 < n and text[j + 1] == ">":
+                j += 2
+                break
+            am = _NAME.match(text, j)
+            if not am:
+                if ch == "<":
+                    break  # malformed: a new tag starts
+                j += 1
+                continue
+            aname, ns, ne = am.group(0), am.start(), am.end()
+            j = _WS.match(text, ne).end()
+            if j < n and text[j] == "=":
+                j = _WS.match(text, j + 1).end()
+                if j < n and text[j] in "\"'":
+                    q = text[j]
+                    k = find(q, j + 1)
+                    if k < 0:
+                        k = n
+                    tag.attrs.append((aname, ns, ne, j + 1, k))
+                    j = k + 1
+                    continue
+            tag.attrs.append((aname, ns, ne, ne, ne))
+        tag.end = min(j, n)
+        out.append(tag)
+        i = max(tag.end, i + 1)
+    return out
+
+
+def _decode(raw: str, start: int) -> tuple[str, list[int] | None]:
+    """Decode entity references and normalise whitespace as XML does for attribute values.
+
+    Returns the value and, when it differs in length from the raw text, the raw offset of
+    every decoded character (plus one past the end)."""
+    if "&" not in raw and "\r" not in raw:
+        return raw.replace("\n", " ").replace("\t", " "), None
+    chars: list[str] = []
+    offs: list[int] = []
+    i = 0
+    n = len(raw)
+    while i < n:
+        ch = raw[i]
+        if ch == "&":
+            m = _ENTITY_REF.match(raw, i)
+            if m:
+                ref = m.group(1)
+                if ref.startswith("#x"):
+                    val = chr(int(ref[2:], 16)) if int(ref[2:], 16) < 0x110000 else "?"
+                elif ref.startswith("#"):
+                    val = chr(int(ref[1:])) if int(ref[1:]) < 0x110000 else "?"
+                else:
+                    val = _PREDEF.get(ref, m.group(0))
+                for v in val:
+                    chars.append(v)
+                    offs.append(start + i)
+                i = m.end()
+                continue
+        if ch == "\r":
+            if i + 1 < n and raw[i + 1] == "\n":
+                i += 1
+            ch = " "
+        elif ch in "\n\t":
+            ch = " "
+        chars.append(ch)
+        offs.append(start + i)
+        i += 1
+    offs.append(start + n)
+    return "".join(chars), offs
+
+
+# ---------------------------------------------------------------- lxml
+
+def _parser(recover: bool) -> etree.XMLParser:
+    return etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False,
+                           huge_tree=False, recover=recover, remove_comments=False,
+                           remove_pis=False, dtd_validation=False, attribute_defaults=False)
+
+
+_ENTITY_DECL = re.compile(r"<!ENTITY", re.I)
+
+
+def _lxml_pos(index: LineIndex, line: int, col: int) -> int:
+    """lxml's 1-based line and (byte) column to a text offset."""
+    line = max(line - 1, 0)
+    lt = index.line_text(line)
+    col = max(col - 1, 0)
+    if not lt.isascii():
+        b = lt.encode("utf-8")[:col]
+        col = len(b.decode("utf-8", errors="ignore"))
+    return index.offset(Pos(line, col))
+
+
+def parse_xml(text: str, path: str) -> XmlDoc:
+    index = LineIndex(text)
+    diags: list[Diagnostic] = []
+    if len(text) > MAX_TEXT:
+        diags.append(Diagnostic(XML_TOO_LARGE, Severity.ERROR, path, index.span(0, 0),
+                                f"the file has {len(text)} characters; tvl-lsp analyses launch files of at most "
+                                f"{MAX_TEXT} characters"))
+        return XmlDoc(path, text, index, None, diags, refused=True)
+    m = _ENTITY_DECL.search(text)
+    if m:
+        diags.append(Diagnostic(XML_ENTITY, Severity.ERROR, path, index.span(m.start(), m.end()),
+                                "XML entity declarations are refused: tvl-lsp never expands entities "
+                                "(entity bombs, external files); roslaunch files do not need them"))
+        return XmlDoc(path, text, index, None, diags, refused=True)
+    data = text.encode("utf-8")
+    if text.lstrip().startswith("<?xml"):
+        # lxml refuses str input with an encoding declaration; bytes with a utf-8 body are fine
+        data = re.sub(rb"encoding\s*=\s*[\"'][^\"']*[\"']", b'encoding="utf-8"', data, count=1)
+    root_el = None
+    try:
+        root_el = etree.fromstring(data, _parser(False))
+    except etree.XMLSyntaxError as e:
+        errs = [x for x in e.error_log] or []
+        first = errs[0] if errs else None
+        line, col = (first.line, first.column) if first else (e.position or (1, 1))
+        msg = first.message if first else str(e)
+        off = _lxml_pos(index, line, col)
+        diags.append(Diagnostic(XML_SYNTAX, Severity.ERROR, path, index.span(off, off + 1 if off < len(text) else off),
+                                f"Invalid roslaunch XML syntax: {msg}"))
+        try:
+            root_el = etree.fromstring(data, _parser(True))
+        except etree.XMLSyntaxError:
+            root_el = None
+    except ValueError as e:  # e.g. NUL bytes
+        diags.append(Diagnostic(XML_SYNTAX, Severity.ERROR, path, index.span(0, 0),
+                                f"Invalid roslaunch XML syntax: {e}"))
+        root_el = None
+    if root_el is None:
+        return XmlDoc(path, text, index, None, diags)
+    raw = _scan(text)
+    root = _build(root_el, raw, text, index, path, diags)
+    return XmlDoc(path, text, index, root, diags)
+
+
+def _build(root_el, raw: list[_RawTag], text: str, index: LineIndex, path: str,
+           diags: list[Diagnostic]) -> XElement | None:
+    cursor = 0
+    too_deep_reported = False
+
+    def match(tag: str) -> _RawTag | None:
+        nonlocal cursor
+        # next raw tag with this name (skipping ones lxml dropped in recovery)
+        for k in range(cursor, min(cursor + 50, len(raw))):
+            if raw[k].name == tag:
+                cursor = k + 1
+                return raw[k]
+        return None
+
+    def make(el, depth: int) -> XElement:
+        nonlocal too_deep_reported
+        tag = el.tag if isinstance(el.tag, str) else str(el.tag)
+        rt = match(tag)
+        attrs: dict[str, XAttr] = {}
+        if rt is not None:
+            span = index.span(rt.start, rt.end)
+            tag_span = index.span(rt.name_start, rt.name_start + len(rt.name))
+            raw_attrs = {a[0]: a for a in rt.attrs}
+        else:
+            line = max((el.sourceline or 1) - 1, 0)
+            span = Span(index.pos(index.starts[min(line, len(index.starts) - 1)]),
+                        index.pos(index.line_end(min(line, len(index.starts) - 1))))
+            tag_span = span
+            raw_attrs = {}
+        for k, v in el.attrib.items():
+            a = raw_attrs.get(k)
+            if a is not None:
+                name_span = index.span(a[1], a[2])
+                value_span = index.span(a[3], a[4])
+                dec, offs = _decode(text[a[3]:a[4]], a[3])
+                if dec != v:
+                    offs = None  # could not reproduce lxml's value: spans approximate
+                attrs[k] = XAttr(k, v, name_span, value_span, offs, a[3])
+            else:
+                attrs[k] = XAttr(k, v, span, span, None, index.offset(span.start))
+        txt = el.text or ""
+        x = XElement(tag, span, attrs, [], "", (el.sourceline or 1) - 1, tag_span)
+        parts = [txt]
+        for child in el:
+            if isinstance(child.tag, str):
+                if depth + 1 > MAX_DEPTH:
+                    if not too_deep_reported:
+                        too_deep_reported = True
+                        cspan = make_span(child)
+                        diags.append(Diagnostic(XML_TOO_DEEP, Severity.ERROR, path, cspan,
+                                                f"elements are nested more than {MAX_DEPTH} levels deep; "
+                                                "the deeper elements are not analysed"))
+                else:
+                    x.children.append(make(child, depth + 1))
+            parts.append(child.tail or "")
+        # only text directly inside (tails of children are direct text too)
+        x.text = "".join(parts)
+        return x
+
+    def make_span(el) -> Span:
+        line = max((el.sourceline or 1) - 1, 0)
+        line = min(line, len(index.starts) - 1)
+        return Span(index.pos(index.starts[line]), index.pos(index.line_end(line)))
+
+    return make(root_el, 0)
+
+
+def value_span(attr: XAttr, index: LineIndex, i: int, j: int) -> Span:
+    """Span of the decoded characters ``attr.value[i:j]`` in the source."""
+    if attr.value_offsets is not None:
+        offs = attr.value_offsets
+        i = min(max(i, 0), len(offs) - 1)
+        j = min(max(j, 0), len(offs) - 1)
+        return index.span(offs[i], offs[j])
+    start = attr.value_start
+    if index.offset(attr.value_span.end) - start != len(attr.value):
+        return attr.value_span
+    return index.span(start + i, start + j)

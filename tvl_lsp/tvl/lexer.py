@@ -1,0 +1,123 @@
+"""The TVL lexer: mirrors the reference TVLParser's JFlex specification.
+
+- Every keyword is reserved; ``oneof/someof/allof/ifin/ifout/selectedchildren`` are aliases of
+  their camel-case forms.
+- A number may carry a sign: ``-12`` is one token (so ``a-1`` is a syntax error in the reference,
+  while ``a - 1`` is fine).
+- Comments ``//`` and ``/* */`` are skipped; an unterminated block comment is reported.
+- Characters the reference does not know are reported (``illegal-character``).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+KEYWORDS = {
+    "shared": "SHARED", "root": "ROOT", "opt": "OPT", "bool": "BOOL", "int": "INTK",
+    "enum": "ENUM", "struct": "STRUCT", "real": "REALK", "ifin": "IFIN", "ifout": "IFOUT",
+    "ifIn": "IFIN", "ifOut": "IFOUT", "const": "CONST", "group": "GROUP", "oneof": "ONEOF",
+    "someof": "SOMEOF", "allof": "ALLOF", "oneOf": "ONEOF", "someOf": "SOMEOF", "allOf": "ALLOF",
+    "parent": "PARENT", "this": "THIS", "children": "CHILDREN", "selectedchildren": "SCHILDREN",
+    "selectedChildren": "SCHILDREN", "true": "TRUE", "false": "FALSE", "max": "MAX", "min": "MIN",
+    "sum": "SUM", "mul": "MUL", "avg": "AVG", "count": "COUNT", "and": "ANDAGG", "or": "ORAGG",
+    "xor": "XORAGG", "abs": "ABS", "is": "IS", "in": "IN", "excludes": "EXCLUDES",
+    "requires": "REQUIRES", "data": "DATA",
+}
+
+OPERATORS = {
+    "&&": "AND", "||": "OR", "->": "IMPLIES", "<->": "IFF", "<-": "RIMPLIES", "!": "NOT",
+    "==": "EQ", "!=": "NEQ", ">=": "GEQ", "<=": "LEQ", ">": "GT", "<": "LT", "+": "PLUS",
+    "-": "MINUS", "*": "TIMES", "/": "DIVIDE", "[": "LBRACK", "]": "RBRACK", ",": "COMMA",
+    "(": "LPAR", ")": "RPAR", "{": "LBRACE", "}": "RBRACE", "..": "DOTDOT", ".": "DOT",
+    "?": "QUEST", ":": "COLON", ";": "SEMI",
+}
+
+_TOKEN_RE = re.compile(
+    r"""
+    (?P<ws>[ \t\f\r\n]+)
+  | (?P<lcomment>//[^\r\n]*)
+  | (?P<bcomment>/\*.*?\*/)
+  | (?P<ubcomment>/\*)
+  | (?P<include>include[ \t]*\([ \t]*(?P<incpath>[^)\r\n]*?)[ \t]*\)[ \t]*;)
+  | (?P<real>-?[0-9]+\.[0-9]+(?![0-9]))
+  | (?P<int>-?[0-9]+(?![\w$]))
+  | (?P<string>"[^"]*")
+  | (?P<ustring>")
+  | (?P<id>[^\W\d][\w$]*|\$[\w$]*)
+  | (?P<op><->|->|<-|&&|\|\||==|!=|>=|<=|\.\.|[!><+\-*/\[\],(){}.?:;])
+  | (?P<bad>[^\w\s$"/\[\](){}.,;:?!<>=&|+\-*]+|.)
+    """,
+    re.VERBOSE | re.DOTALL,
+)
+
+
+@dataclass(slots=True)
+class Tok:
+    type: str
+    value: str
+    start: int
+    end: int
+
+
+@dataclass(slots=True)
+class LexError:
+    kind: str  # "illegal-character" | "unterminated-comment" | "unterminated-string"
+    start: int
+    end: int
+    text: str
+
+
+def tokenize(text: str, keep_comments: bool = False) -> tuple[list[Tok], list[LexError]]:
+    toks: list[Tok] = []
+    errors: list[LexError] = []
+    append = toks.append
+    kw = KEYWORDS
+    ops = OPERATORS
+    pos = 0
+    n = len(text)
+    match = _TOKEN_RE.match
+    bad_start = -1
+    while pos < n:
+        m = match(text, pos)
+        kind = m.lastgroup
+        end = m.end()
+        if kind != "bad" and bad_start >= 0:
+            errors.append(LexError("illegal-character", bad_start, pos, text[bad_start:pos]))
+            bad_start = -1
+        if kind == "ws":
+            pass
+        elif kind == "lcomment" or kind == "bcomment":
+            if keep_comments:
+                append(Tok("COMMENT", m.group(), pos, end))
+        elif kind == "id":
+            v = m.group()
+            append(Tok(kw.get(v, "ID"), v, pos, end))
+        elif kind == "op":
+            v = m.group()
+            append(Tok(ops[v], v, pos, end))
+        elif kind == "include":
+            append(Tok("INCLUDE", m.group("incpath"), pos, end))
+        elif kind == "int":
+            append(Tok("INT", m.group(), pos, end))
+        elif kind == "real":
+            append(Tok("REAL", m.group(), pos, end))
+        elif kind == "string":
+            append(Tok("STRING", m.group(), pos, end))
+        elif kind == "ubcomment":
+            errors.append(LexError("unterminated-comment", pos, min(n, pos + 2), "/*"))
+            break
+        elif kind == "ustring":
+            eol = text.find("\n", pos)
+            eol = n if eol < 0 else eol
+            errors.append(LexError("unterminated-string", pos, eol, text[pos:eol]))
+            end = eol
+        else:  # bad
+            if bad_start < 0:
+                bad_start = pos
+            if len(errors) > 200:
+                break
+        pos = end
+    if bad_start >= 0:
+        errors.append(LexError("illegal-character", bad_start, pos, text[bad_start:pos]))
+    return toks, errors

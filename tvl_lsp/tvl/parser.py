@@ -1,0 +1,833 @@
+"""Syntax: lark LALR over the tokens of :mod:`.lexer`, building raw declarations and model
+expressions inline (no parse tree), with error recovery.
+
+Recovery: on a syntax error the statement around the offending token (back to the previous
+``;``/``{``/``}`` of the same brace level, forward to the next ``;`` of that level) is dropped
+and the token list is parsed again; a missing ``}`` at the end of the file is supplied.  Each
+error is reported once and everything else is still built.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Optional
+
+from lark import Lark, Token, Transformer
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+from lark.lexer import Lexer
+
+from bisect import bisect_right as _bisect_right
+
+from ..text import LineIndex, Pos, Span
+from . import model as m
+from .lexer import Tok
+
+MAX_DEPTH = 200  # expression / feature nesting handled (deeper input is reported, not crashed on)
+
+
+def _grammar_text() -> str:
+    here = Path(__file__).resolve().parent
+    for cand in (here.parent / "grammars" / "tvl.lark", here.parents[1] / "grammars" / "tvl.lark"):
+        if cand.is_file():
+            return cand.read_text(encoding="utf-8")
+    try:  # installed wheel without the symlink materialised
+        from importlib import resources
+        return (resources.files("tvl_lsp") / "grammars" / "tvl.lark").read_text(encoding="utf-8")
+    except Exception as exc:  # pragma: no cover
+        raise RuntimeError("grammars/tvl.lark not found") from exc
+
+
+# ---------------------------------------------------------------- raw declarations
+
+@dataclass(eq=False)
+class RawAttr:
+    type_tok: Tok
+    name_tok: Tok
+    start: int
+    end: int
+    value: Optional[m.Expr] = None
+    domain: Optional[m.Expr] = None
+    if_in_value: Optional[m.Expr] = None
+    if_in_domain: Optional[m.Expr] = None
+    if_out_value: Optional[m.Expr] = None
+    if_out_domain: Optional[m.Expr] = None
+    refinements: Optional[list["RawAttr"]] = None  # struct-typed attribute with a body
+    dup_parts: list[tuple[str, int, int]] = field(default_factory=list)
+
+
+@dataclass(eq=False)
+class RawConstraint:
+    kind: str
+    expr: m.Expr
+    start: int
+    end: int
+
+
+@dataclass(eq=False)
+class RawData:
+    entries: list[tuple[str, str, int, int]]
+    start: int
+    end: int
+
+
+@dataclass(eq=False)
+class RawChild:
+    optional: bool
+    shared: bool
+    parts: list[Tok]
+    body: Optional["RawBody"]
+    start: int
+    end: int
+    depth: int = 0
+
+
+@dataclass(eq=False)
+class RawGroup:
+    kind: str  # oneOf someOf allOf card
+    kw_start: int
+    kw_end: int
+    lo: Optional[Tok]
+    hi: Optional[Tok]
+    children: list[RawChild]
+    start: int
+    end: int
+
+
+@dataclass(eq=False)
+class RawBody:
+    items: list[Any]
+    start: int
+    end: int
+    depth: int = 0
+
+
+@dataclass(eq=False)
+class RawFeatureDecl:
+    is_root: bool
+    root_tok: Optional[Tok]
+    parts: list[Tok]
+    body: RawBody
+    start: int
+    end: int
+    path: str = ""
+    index: Optional[LineIndex] = None
+
+
+@dataclass(eq=False)
+class RawType:
+    kw: Tok
+    name_tok: Tok
+    domain: Optional[m.Expr]
+    fields: list[RawAttr]
+    start: int
+    end: int
+    path: str = ""
+    index: Optional[LineIndex] = None
+
+
+@dataclass(eq=False)
+class RawConst:
+    type_tok: Tok
+    name_tok: Tok
+    value: m.Expr
+    start: int
+    end: int
+    path: str = ""
+    index: Optional[LineIndex] = None
+
+
+@dataclass
+class SyntaxIssue:
+    code: str
+    start: int
+    end: int
+    message: str
+
+
+# ---------------------------------------------------------------- lark plumbing
+
+class _ListLexer(Lexer):
+    """Feeds lark the tokens we lexed ourselves (``parse`` receives a _Feed)."""
+
+    def __init__(self, lexer_conf):  # noqa: D401
+        pass
+
+    def lex(self, data, *_):
+        feed = getattr(data, "text", data)
+        return iter(feed.tokens)
+
+
+class _Feed:
+    __slots__ = ("tokens",)
+
+    def __init__(self, tokens):
+        self.tokens = tokens
+
+    # lark's LexerState may call these on ``text``
+    def __len__(self):
+        return len(self.tokens)
+
+
+def _s(x) -> int:
+    if isinstance(x, Tok):
+        return x.start
+    return x._s
+
+
+def _e(x) -> int:
+    if isinstance(x, Tok):
+        return x.end
+    return x._e
+
+
+def _tok(t: Tok) -> Tok:
+    return t
+
+
+class _Builder(Transformer):
+    """Inline callbacks: expressions become model Expr objects, declarations Raw* objects."""
+
+    def __init__(self):
+        super().__init__(visit_tokens=False)
+        self.ctx: "_Ctx" = None  # set per parse
+
+    # -- helpers
+    def _mk(self, node: m.Expr, s: int, e: int, depth: int) -> m.Expr:
+        ctx = self.ctx
+        if depth > MAX_DEPTH:
+            if not ctx.too_deep:
+                ctx.too_deep = True
+                ctx.issues.append(SyntaxIssue("nesting-too-deep", s, e,
+                                              f"expression nested more than {MAX_DEPTH} levels deep; it is not analysed"))
+            node = m.BoolLit(True)
+            depth = 0
+            node.too_deep = True
+        node.span = ctx.smap.span(s, e)
+        node.path = ctx.smap.path(s)
+        node._s = s
+        node._e = e
+        node._d = depth
+        return node
+
+    @staticmethod
+    def _d(x) -> int:
+        return getattr(x, "_d", 0)
+
+    # -- expressions
+    def int_lit(self, c):
+        t = c[0]
+        return self._mk(m.IntLit(int(t.value)), t.start, t.end, 1)
+
+    def real_lit(self, c):
+        t = c[0]
+        return self._mk(m.RealLit(float(t.value), text=str(t.value)), t.start, t.end, 1)
+
+    def bool_lit(self, c):
+        t = c[0]
+        return self._mk(m.BoolLit(t.type == "TRUE"), t.start, t.end, 1)
+
+    def long_id(self, c):
+        toks = [x for x in c if isinstance(x, Tok)]
+        # head / tail rules are inlined by '!' (they return a Tree-less list); flatten
+        return toks
+
+    def head(self, c):
+        return c[0]
+
+    def tail(self, c):
+        return c[0]
+
+    def name(self, c):
+        toks = [t for t in c[0] if t.type != "DOT"]
+        ctx = self.ctx
+        idx = ctx.smap
+        part_spans = [idx.span(t.start, t.end) for t in toks]
+        node = m.Name([t.value for t in toks], part_spans=part_spans)
+        if len(toks) == 1:  # the common case: reuse the part's span
+            t = toks[0]
+            node.span = part_spans[0]
+            node.path = idx.path(t.start)
+            node._s = t.start
+            node._e = t.end
+            node._d = 1
+            return node
+        return self._mk(node, toks[0].start, toks[-1].end, 1)
+
+    def paren(self, c):
+        inner = c[1]
+        node = self._mk(inner, c[0].start, c[2].end, self._d(inner) + 1)
+        node.parens = getattr(inner, "parens", 0) + 1
+        return node
+
+    def binop(self, c):
+        left, op, right = c
+        d = max(self._d(left), self._d(right)) + 1
+        return self._mk(m.Binary(str(op.value), left, right), _s(left), _e(right), d)
+
+    def unop(self, c):
+        op, operand = c
+        return self._mk(m.Unary(str(op.value), operand), op.start, _e(operand), self._d(operand) + 1)
+
+    def ternary(self, c):
+        cond, _q, then, _c, other = c
+        d = max(self._d(cond), self._d(then), self._d(other)) + 1
+        return self._mk(m.Ternary(cond, then, other), _s(cond), _e(other), d)
+
+    def abs_e(self, c):
+        inner = c[2]
+        return self._mk(m.Unary("abs", inner), c[0].start, c[3].end, self._d(inner) + 1)
+
+    def agg_func(self, c):
+        return c[0]
+
+    def sel(self, c):
+        return c[0]
+
+    def expr_list(self, c):
+        return [x for x in c if not isinstance(x, Tok)]
+
+    def agg_list(self, c):
+        f, _l, args, r = c
+        d = max((self._d(a) for a in args), default=0) + 1
+        return self._mk(m.Aggregate(str(f.value), args=args), f.start, r.end, d)
+
+    def agg_over(self, c):
+        f, _l, sel, _dot, attr, r = c
+        over = "children" if sel.type == "CHILDREN" else "selectedChildren"
+        node = m.Aggregate(str(f.value), over=over, attr=str(attr.value),
+                           attr_span=self.ctx.smap.span(attr.start, attr.end))
+        node.sel_span = self.ctx.smap.span(sel.start, sel.end)
+        node.sel_text = str(sel.value)
+        return self._mk(node, f.start, r.end, 1)
+
+    def agg_count(self, c):
+        f, _l, sel, r = c
+        over = "children" if sel.type == "CHILDREN" else "selectedChildren"
+        node = m.Aggregate("count", over=over)
+        node.sel_span = self.ctx.smap.span(sel.start, sel.end)
+        node.sel_text = str(sel.value)
+        return self._mk(node, f.start, r.end, 1)
+
+    def set_lit(self, c):
+        l, items, r = c
+        d = max((self._d(a) for a in items), default=0) + 1
+        return self._mk(m.SetLit(items), l.start, r.end, d)
+
+    def range_hi(self, c):
+        x = c[0]
+        if isinstance(x, Tok):  # '*'
+            node = m.Name(["*"], part_spans=[self.ctx.smap.span(x.start, x.end)])
+            node.star = True
+            return self._mk(node, x.start, x.end, 1)
+        return x
+
+    def range_lit(self, c):
+        l, lo, _dd, hi, r = c
+        d = max(self._d(lo), self._d(hi)) + 1
+        return self._mk(m.RangeLit(lo, hi), l.start, r.end, d)
+
+    # -- attributes
+    def attr_type(self, c):
+        return c[0]
+
+    def attr_is(self, c):
+        return ("is", c[1], c[0])
+
+    def attr_in(self, c):
+        return ("in", c[1], c[0])
+
+    def cond_in(self, c):
+        kind, val, kw = c[2]
+        return ("ifin", kind, val, c[0])
+
+    def cond_out(self, c):
+        kind, val, kw = c[2]
+        return ("ifout", kind, val, c[0])
+
+    def attr_body(self, c):
+        return [x for x in c if not isinstance(x, Tok)]
+
+    def _fill(self, a: RawAttr, parts):
+        seen = set()
+        for p in parts:
+            if p[0] in ("is", "in"):
+                slot = "value" if p[0] == "is" else "domain"
+                kwt = p[2]
+            else:
+                slot = ("if_in_" if p[0] == "ifin" else "if_out_") + ("value" if p[1] == "is" else "domain")
+                kwt = p[3]
+            if slot in seen or getattr(a, slot) is not None:
+                a.dup_parts.append((slot, kwt.start, _e(p[2] if p[0] in ("is", "in") else p[2])))
+                continue
+            seen.add(slot)
+            setattr(a, slot, p[1] if p[0] in ("is", "in") else p[2])
+
+    def attr_decl(self, c):
+        ty, name, body, semi = c
+        a = RawAttr(_tok(ty), _tok(name), ty.start, semi.end)
+        self._fill(a, body)
+        return a
+
+    def field_ref(self, c):
+        name, body, semi = c
+        a = RawAttr(Tok("ID", "", name.start, name.start), _tok(name), name.start, semi.end)
+        self._fill(a, body)
+        return a
+
+    def struct_attr(self, c):
+        ty, name, _l = c[0], c[1], c[2]
+        r = c[-1]
+        refs = [x for x in c[3:-1] if isinstance(x, RawAttr)]
+        a = RawAttr(_tok(ty), _tok(name), ty.start, r.end, refinements=refs)
+        return a
+
+    # -- constraints / data
+    def constraint_plain(self, c):
+        return RawConstraint("plain", c[0], _s(c[0]), c[1].end)
+
+    def constraint_in(self, c):
+        return RawConstraint("ifIn", c[2], c[0].start, c[3].end)
+
+    def constraint_out(self, c):
+        return RawConstraint("ifOut", c[2], c[0].start, c[3].end)
+
+    def data_entry(self, c):
+        k, v = c[0], c[1]
+        return (k.value[1:-1], v.value[1:-1], k.start, c[-1].end)
+
+    def data_block(self, c):
+        entries = [x for x in c if isinstance(x, tuple)]
+        return RawData(entries, c[0].start, c[-1].end)
+
+    # -- groups and features
+    def bound(self, c):
+        return c[0]
+
+    def card_kw(self, c):
+        t = c[0]
+        kind = {"ONEOF": "oneOf", "SOMEOF": "someOf", "ALLOF": "allOf"}[t.type]
+        return (kind, t.start, t.end, None, None)
+
+    def card_range(self, c):
+        l, lo, _d, hi, r = c
+        return ("card", l.start, r.end, _tok(lo), _tok(hi))
+
+    def children(self, c):
+        return [x for x in c if isinstance(x, RawChild)]
+
+    def child_decl(self, c):
+        opt = bool(c and isinstance(c[0], Tok) and c[0].type == "OPT")
+        rest = c[1:] if opt else c
+        parts = [_tok(t) for t in rest[0] if t.type != "DOT"]
+        body = rest[1] if len(rest) > 1 else None
+        start = c[0].start if opt else parts[0].start
+        end = body.end if body is not None else parts[-1].end
+        depth = (body.depth + 1) if body is not None else 1
+        if depth > MAX_DEPTH:
+            ctx = self.ctx
+            if not ctx.too_deep:
+                ctx.too_deep = True
+                ctx.issues.append(SyntaxIssue("nesting-too-deep", start, end,
+                                              f"features nested more than {MAX_DEPTH} levels deep; the deeper ones are not analysed"))
+            body = None
+            depth = 1
+        return RawChild(opt, False, parts, body, start, end, depth)
+
+    def child_shared(self, c):
+        opt = c[0].type == "OPT"
+        rest = c[1:] if opt else c
+        parts = [_tok(t) for t in rest[1] if t.type != "DOT"]
+        return RawChild(opt, True, parts, None, c[0].start, parts[-1].end, 1)
+
+    def group_decl(self, c):
+        g, card, _l, children, r = c
+        kind, ks, ke, lo, hi = card
+        return RawGroup(kind, ks, ke, lo, hi, children, g.start, r.end)
+
+    def body(self, c):
+        items = [x for x in c[1:-1]]
+        depth = max((ch.depth for it in items if isinstance(it, RawGroup) for ch in it.children), default=0)
+        return RawBody(items, c[0].start, c[-1].end, depth)
+
+    def body_group(self, c):
+        g = c[0]
+        depth = max((ch.depth for ch in g.children), default=0)
+        return RawBody([g], g.start, g.end, depth)
+
+    def root_decl(self, c):
+        root, ids, body = c
+        parts = [_tok(t) for t in ids if t.type != "DOT"]
+        return RawFeatureDecl(True, _tok(root), parts, body, root.start, body.end)
+
+    def reopen_decl(self, c):
+        ids, body = c
+        parts = [_tok(t) for t in ids if t.type != "DOT"]
+        return RawFeatureDecl(False, None, parts, body, parts[0].start, body.end)
+
+    def type_kw(self, c):
+        return c[0]
+
+    def struct_field(self, c):
+        return c[0]
+
+    def type_simple(self, c):
+        kw, name = c[0], c[1]
+        dom = c[3] if len(c) == 5 else None
+        return RawType(_tok(kw), _tok(name), dom, [], kw.start, c[-1].end)
+
+    def type_struct(self, c):
+        kw, name = c[0], c[1]
+        fields = [x for x in c[3:-1] if isinstance(x, RawAttr)]
+        return RawType(_tok(kw), _tok(name), None, fields, kw.start, c[-1].end)
+
+    def const_decl(self, c):
+        _k, ty, name, val, semi = c
+        return RawConst(_tok(ty), _tok(name), val, _k.start, semi.end)
+
+    def start(self, c):
+        return list(c)
+
+
+@dataclass
+class _Ctx:
+    smap: "SourceMap"
+    issues: list[SyntaxIssue]
+    too_deep: bool = False
+
+
+_onew = object.__new__
+
+
+def _span(l1: int, c1: int, l2: int, c2: int) -> Span:
+    """Span(Pos(l1, c1), Pos(l2, c2)) without the frozen-dataclass __init__ cost (hot path)."""
+    a = _onew(Pos)
+    d = a.__dict__
+    d["line"] = l1
+    d["col"] = c1
+    b = _onew(Pos)
+    d = b.__dict__
+    d["line"] = l2
+    d["col"] = c2
+    sp = _onew(Span)
+    d = sp.__dict__
+    d["start"] = a
+    d["end"] = b
+    return sp
+
+
+class SourceMap:
+    """Global offsets over several files (``include`` splices files textually): file ``k``'s
+    text occupies ``[base_k, base_k + len)`` of one virtual address space."""
+
+    def __init__(self):
+        self.bases: list[int] = []
+        self.paths: list[str] = []
+        self.indexes: list[LineIndex] = []
+        self.next_base = 0
+
+    def add(self, path: str, text: str) -> int:
+        base = self.next_base
+        self.bases.append(base)
+        self.paths.append(path)
+        self.indexes.append(LineIndex(text))
+        self.next_base = base + len(text) + 1
+        return base
+
+    def _k(self, off: int) -> int:
+        if len(self.bases) == 1:
+            return 0
+        return max(0, _bisect_right(self.bases, off) - 1)
+
+    def path(self, off: int) -> str:
+        paths = self.paths
+        if len(paths) == 1:
+            return paths[0]
+        return paths[self._k(off)] if paths else ""
+
+    def span(self, s: int, e: int) -> Span:
+        if len(self.bases) == 1:
+            k = 0
+            base = 0
+        else:
+            k = self._k(s)
+            base = self.bases[k]
+            if e < s or self._k(e) != k:
+                e = base + len(self.indexes[k].text)
+        idx = self.indexes[k]
+        starts = idx.starts
+        n = len(idx.text)
+        s -= base
+        e -= base
+        if s < 0:
+            s = 0
+        elif s > n:
+            s = n
+        if e < s:
+            e = s
+        elif e > n:
+            e = n
+        l1 = _bisect_right(starts, s) - 1
+        # most spans sit on one line
+        if l1 + 1 >= len(starts) or e < starts[l1 + 1]:
+            return _span(l1, s - starts[l1], l1, e - starts[l1])
+        l2 = _bisect_right(starts, e) - 1
+        return _span(l1, s - starts[l1], l2, e - starts[l2])
+
+    def end_of(self, k: int = 0) -> int:
+        return self.bases[k] + len(self.indexes[k].text)
+
+
+_LOCK = threading.Lock()
+_BUILDER = _Builder()
+_PARSER: Optional[Lark] = None
+
+
+def _parser() -> Lark:
+    global _PARSER
+    if _PARSER is None:
+        _PARSER = Lark(_grammar_text(), parser="lalr", lexer=_ListLexer, transformer=_BUILDER,
+                       maybe_placeholders=False)
+    return _PARSER
+
+
+_DISPLAY = {v: f"'{k}'" for k, v in __import__("tvl_lsp.tvl.lexer", fromlist=["OPERATORS"]).OPERATORS.items()}
+_DISPLAY.update({"ID": "a name", "INT": "an integer", "REAL": "a real number", "STRING": "a string",
+                 "$END": "end of file", "INTK": "'int'", "REALK": "'real'", "ANDAGG": "'and'",
+                 "ORAGG": "'or'", "XORAGG": "'xor'", "SCHILDREN": "'selectedChildren'",
+                 "ONEOF": "'oneOf'", "SOMEOF": "'someOf'", "ALLOF": "'allOf'", "IFIN": "'ifIn'",
+                 "IFOUT": "'ifOut'"})
+
+
+def _disp(t: str) -> str:
+    return _DISPLAY.get(t, f"'{t.lower()}'")
+
+
+_EXPR_START = {"INT", "ID", "LPAR", "NOT", "TRUE"}
+_OPERATORS = {"EQ", "NEQ", "AND", "OR", "IMPLIES", "PLUS", "TIMES", "GEQ"}
+_PUNCT = ("SEMI", "COMMA", "RPAR", "RBRACE", "RBRACK", "COLON", "LBRACE", "QUEST", "DOTDOT")
+
+
+def _expected(exp) -> str:
+    exp = set(exp)
+    if _EXPR_START <= exp:
+        rest = [_disp(t) for t in sorted(exp) if t in ("RBRACE", "IFIN", "IFOUT", "GROUP", "DATA", "RPAR")]
+        return "an expression" + (" or " + ", ".join(rest) if rest and len(rest) < 4 else "")
+    if _OPERATORS <= exp:
+        rest = [_disp(t) for t in _PUNCT if t in exp]
+        return "an operator" + (" or " + ", ".join(rest) if rest else "")
+    names = sorted({_disp(t) for t in exp})
+    if len(names) > 6:
+        names = names[:6] + ["..."]
+    return ", ".join(names)
+
+
+class _SyntaxError(Exception):
+    def __init__(self, tok: Tok, expected: set):
+        self.token = tok
+        self.expected = expected
+
+
+_TABLES = None
+
+
+def _tables():
+    """lark's LALR table, re-keyed for a lean driver loop (lark's own ``feed_token`` spends most
+    of its time in ``Token.__eq__``/``Rule.__eq__`` on this grammar)."""
+    global _TABLES
+    if _TABLES is None:
+        from lark.parsers.lalr_analysis import Shift
+        pp = _parser().parser.parser.parser
+        pt = pp.parse_table
+        cbs = pp.callbacks
+        states = {}
+        for st, acts in pt.states.items():
+            d = {}
+            for sym, (action, arg) in acts.items():
+                if action is Shift:
+                    d[str(sym)] = (True, arg, 0, None)
+                else:
+                    d[str(sym)] = (False, str(arg.origin.name), len(arg.expansion), cbs[arg])
+            states[st] = d
+        _TABLES = (states, pt.start_states["start"], pt.end_states["start"])
+    return _TABLES
+
+
+def _run_lalr(tokens: list[Tok], end_pos: int):
+    states, start, end = _tables()
+    ss = [start]
+    vs: list = []
+    end_tok = Tok("$END", "", end_pos, end_pos)
+    for tok in tokens + [end_tok]:
+        ttype = tok.type
+        while True:
+            row = states[ss[-1]]
+            act = row.get(ttype)
+            if act is None:
+                raise _SyntaxError(tok, {k for k in row if k.isupper()})
+            if act[0]:
+                ss.append(act[1])
+                vs.append(tok)
+                break
+            size = act[2]
+            if size:
+                args = vs[-size:]
+                del ss[-size:]
+                del vs[-size:]
+            else:
+                args = []
+            vs.append(act[3](args))
+            ss.append(states[ss[-1]][act[1]][1])
+            if ttype == "$END" and ss[-1] == end:
+                return vs[-1]
+
+
+def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxIssue]]:
+    """Parse ``toks`` (from :func:`tokenize`), recovering from syntax errors."""
+    issues: list[SyntaxIssue] = []
+    depth = []
+    d = 0
+    for t in toks:
+        if t.type == "RBRACE":
+            d = max(0, d - 1)
+        depth.append(d)
+        if t.type == "LBRACE":
+            d += 1
+    alive = [True] * len(toks)
+    extra: list[Tok] = []
+    last_err = None
+    last_drop = None
+    end_pos = toks[-1].end if toks else 0
+    ctx = _Ctx(smap, [])
+    with _LOCK:
+        _tables()
+        for _attempt in range(60):
+            ctx = _Ctx(smap, [])
+            _BUILDER.ctx = ctx
+            feed = (toks if all(alive) else [t for t, a in zip(toks, alive) if a]) + extra
+            try:
+                items = _run_lalr(feed, end_pos)
+                issues.extend(ctx.issues)
+                return items, issues
+            except _SyntaxError as e:
+                tok = e.token
+                if tok.type == "$END":
+                    if extra:
+                        break
+                    issues.append(SyntaxIssue("syntax-error", toks[-1].start if toks else 0, end_pos,
+                                              f"unexpected end of file; expected {_expected(e.expected)}"
+                                              + (f" (missing {d} '}}')" if d else "")))
+                    if d:
+                        extra = [Tok("RBRACE", "}", end_pos, end_pos) for _ in range(d)]
+                        continue
+                    break
+                k = _find(toks, tok)
+                if k is None:
+                    break
+                if tok.type == "RBRACE" and "SEMI" in e.expected:
+                    msg = "missing ';' before '}'"
+                elif tok.type in ("ANDAGG", "ORAGG"):
+                    msg = (f"unexpected '{tok.value}': here it can only be the aggregate function "
+                           f"{tok.value}(...); use {'&&' if tok.type == 'ANDAGG' else '||'}")
+                elif (tok.type in ("ID", "OPT", "SHARED") and k > 0 and toks[k - 1].type in ("ID", "RBRACE")
+                      and ("COMMA" in e.expected or "SEMI" in e.expected)):
+                    msg = f"unexpected '{tok.value}': is a ',' or ';' missing before it?"
+                elif tok.type in ("INT", "REAL") and tok.value.startswith("-"):
+                    msg = (f"unexpected number '{tok.value}': TVL reads '-' glued to a number as its sign; "
+                           f"put a space after '-' to subtract")
+                else:
+                    what = (f"'{tok.value}'" if tok.type not in ("ID", "INT", "REAL", "STRING")
+                            else f"{_disp(tok.type)} '{tok.value}'")
+                    msg = f"unexpected {what}; expected {_expected(e.expected)}"
+                # a '}' right after what we dropped is an artefact of the drop (e.g. a group left
+                # empty): drop the enclosing construct instead, without a second report
+                cascade = (tok.type == "RBRACE" and last_drop is not None and last_drop < k
+                           and not any(alive[last_drop + 1:k]))
+                if last_err != k and not cascade:
+                    issues.append(SyntaxIssue("syntax-error", tok.start, tok.end, msg))
+                if tok.type == "RBRACE":
+                    a, b = _block_range(toks, depth, k)
+                else:
+                    a, b = _statement_range(toks, depth, alive, k)
+                if last_err == k or not any(alive[a:b + 1]):
+                    a, b = _item_range(toks, depth, alive, k)
+                last_err = k
+                last_drop = b
+                for i in range(a, b + 1):
+                    alive[i] = False
+        issues.extend(ctx.issues)
+        return [], issues
+
+
+def _find(ltoks, tok) -> Optional[int]:
+    lo, hi = 0, len(ltoks) - 1
+    sp = tok.start
+    while lo <= hi:
+        mid = (lo + hi) // 2
+        s = ltoks[mid].start
+        if s == sp:
+            return mid
+        if s < sp:
+            lo = mid + 1
+        else:
+            hi = mid - 1
+    return None
+
+
+def _statement_range(toks, depth, alive, k) -> tuple[int, int]:
+    d = depth[k]
+    a = k
+    while a > 0:
+        j = a - 1
+        if not alive[j]:
+            a = j
+            continue
+        t = toks[j].type
+        if depth[j] == d and t in ("SEMI", "RBRACE", "LBRACE", "COMMA"):
+            break
+        if depth[j] < d:  # the '{' opening our block
+            break
+        a = j
+    b = k
+    n = len(toks)
+    while b < n:
+        t = toks[b].type
+        if depth[b] == d and t == "SEMI":
+            break
+        if t == "RBRACE" and depth[b] < d:
+            b -= 1
+            break
+        if depth[b] == d and t == "RBRACE" and b > k:
+            # a '}' closing something we were inside of at the same level: keep it
+            break
+        b += 1
+    return a, min(b, n - 1)
+
+
+def _block_range(toks, depth, k) -> tuple[int, int]:
+    """The construct whose block the '}' at ``k`` closes: from its statement start to ``k``."""
+    d = depth[k]  # depth of the '}' (after closing) == depth of its '{'
+    j = k - 1
+    while j >= 0 and not (toks[j].type == "LBRACE" and depth[j] == d):
+        j -= 1
+    if j < 0:
+        return k, k
+    a = j
+    while a > 0:
+        i = a - 1
+        if depth[i] < d or (depth[i] == d and toks[i].type in ("SEMI", "RBRACE", "LBRACE", "COMMA")):
+            break
+        a = i
+    return a, k
+
+
+def _item_range(toks, depth, alive, k) -> tuple[int, int]:
+    a = k
+    while a > 0 and not (depth[a - 1] == 0 and toks[a - 1].type in ("SEMI", "RBRACE")):
+        a -= 1
+    b = k
+    n = len(toks)
+    while b < n - 1 and not (depth[b] == 0 and toks[b].type in ("SEMI", "RBRACE") and b >= k):
+        b += 1
+    return a, b

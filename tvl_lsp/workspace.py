@@ -1,0 +1,572 @@
+"""The workspace: which files there are, which ROS packages, and which model configures which
+launch file.
+
+Pure: no LSP here.  Files are read through a ``read_file(path) -> str | None`` callback (the
+server passes one that prefers the editor's unsaved buffers); only :func:`discover_files` and
+:func:`find_workspace_root` look at the file system's directory structure.
+
+Files
+    ``*.tvl`` (models), ``*.launch`` / ``*.launch.xml`` (roslaunch files), HAROS project files
+    (a ``*.yaml`` / ``*.yml`` whose top level has ``configurations``) and ``package.xml``
+    (ROS packages: its ``<name>`` names the folder it is in).  The folders ``.git``, ``build``,
+    ``devel``, ``install`` and ``node_modules`` are skipped.
+
+Pairing a launch file with a model — the first rule that applies wins:
+
+1. ``haros-project``: a HAROS-TVL project file names both, as the thesis writes it::
+
+       configurations:
+           {lf: turtlerand/launch/generic.launch, tvl: turtlerand/launch/generic.tvl}
+
+   ``configurations`` may be one such mapping, a list of them, or a mapping from
+   configuration names to them; paths are relative to the package folders (``turtlerand/…``
+   is ``launch/generic.launch`` inside the package named ``turtlerand``), falling back to the
+   project file's folder.  A plain HAROS project's ``configurations: NAME: launch: [...]``
+   names launch files but pairs no model.  A launch file that several project files pair with
+   different models gets one :class:`Pairing` per model.
+2. ``marker``: a comment in the launch file::
+
+       <!-- tvl-lsp: model=../models/robot.tvl -->
+
+   The path is relative to the launch file's folder (``$(find pkg)/...`` also works);
+   ``model=none`` turns pairing off for the file (it is then checked alone).
+3. ``same-stem``: ``robot.tvl`` in the same folder as ``robot.launch`` /
+   ``robot.launch.xml``.
+
+A launch file that none of these pair is checked alone (``Pairing.model is None``,
+``rule == "none"``).  Problems with project files or markers (malformed YAML, a named file that
+does not exist) are diagnostics on the project file / marker, never exceptions.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+import re
+from dataclasses import dataclass, field
+from typing import Callable, Iterable, Optional
+
+from .diagnostics import Diagnostic, Related, Severity, register
+from .text import LineIndex, Pos, Span
+
+ReadFile = Callable[[str], Optional[str]]
+
+INVALID_PROJECT = register(
+    "invalid-project", Severity.ERROR,
+    "A HAROS project file is malformed (YAML syntax, or a configuration that is not lf/tvl or launch).",
+    "workspace")
+PROJECT_FILE_NOT_FOUND = register(
+    "project-file-not-found", Severity.ERROR,
+    "A launch file or model named in a HAROS project file does not exist.", "workspace")
+MARKER_MODEL_NOT_FOUND = register(
+    "marker-model-not-found", Severity.ERROR,
+    "The model named by a `<!-- tvl-lsp: model=... -->` marker does not exist.", "workspace")
+
+SKIP_DIRS = frozenset({".git", "build", "devel", "install", "node_modules"})
+LAUNCH_SUFFIXES = (".launch", ".launch.xml")
+MODEL_SUFFIXES = (".tvl",)
+YAML_SUFFIXES = (".yaml", ".yml")
+MAX_PROJECT_BYTES = 2_000_000
+
+RULE_PROJECT = "haros-project"
+RULE_MARKER = "marker"
+RULE_STEM = "same-stem"
+RULE_NONE = "none"
+
+
+def is_launch(path: str) -> bool:
+    return path.endswith(LAUNCH_SUFFIXES)
+
+
+def is_model(path: str) -> bool:
+    return path.endswith(MODEL_SUFFIXES)
+
+
+def is_yaml(path: str) -> bool:
+    return path.endswith(YAML_SUFFIXES)
+
+
+def launch_stem(path: str) -> str:
+    base = os.path.basename(path)
+    for suf in (".launch.xml", ".launch"):
+        if base.endswith(suf):
+            return base[: -len(suf)]
+    return os.path.splitext(base)[0]
+
+
+def default_read_file(path: str) -> Optional[str]:
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read()
+    except OSError:
+        return None
+    return data.decode("utf-8", errors="replace")
+
+
+def norm(path: str) -> str:
+    return os.path.normpath(os.path.abspath(path))
+
+
+# ------------------------------------------------------------------ discovery
+
+@dataclass
+class Files:
+    models: list[str] = field(default_factory=list)
+    launches: list[str] = field(default_factory=list)
+    yamls: list[str] = field(default_factory=list)
+    manifests: list[str] = field(default_factory=list)  # package.xml
+
+    def extend(self, other: "Files") -> None:
+        self.models += other.models
+        self.launches += other.launches
+        self.yamls += other.yamls
+        self.manifests += other.manifests
+
+    def dedupe(self) -> "Files":
+        return Files(*(sorted(set(lst)) for lst in
+                       (self.models, self.launches, self.yamls, self.manifests)))
+
+
+def _classify(path: str, out: Files) -> None:
+    base = os.path.basename(path)
+    if is_model(path):
+        out.models.append(path)
+    elif is_launch(path):
+        out.launches.append(path)
+    elif is_yaml(path):
+        out.yamls.append(path)
+    elif base == "package.xml":
+        out.manifests.append(path)
+
+
+def discover_files(paths: Iterable[str]) -> Files:
+    """Walk ``paths`` (files or folders) and classify what is found; sorted, absolute."""
+    out = Files()
+    for p in paths:
+        p = norm(p)
+        if os.path.isdir(p):
+            for dirpath, dirnames, filenames in os.walk(p, followlinks=False):
+                dirnames[:] = sorted(d for d in dirnames if d not in SKIP_DIRS)
+                for fn in filenames:
+                    _classify(os.path.join(dirpath, fn), out)
+        elif os.path.isfile(p):
+            _classify(p, out)
+    return out.dedupe()
+
+
+_ROOT_MARKERS = (".catkin_workspace", ".catkin_tools", ".git", ".tvl-lsp")
+
+
+def find_workspace_root(path: str, max_up: int = 12) -> str:
+    """The folder to look for packages and project files in when only ``path`` is given.
+
+    The nearest ancestor holding a catkin marker, ``.git`` or a HAROS project file; failing
+    that, the ``src`` folder's parent when ``path`` is inside a ``src`` folder; failing that,
+    the folder of ``path`` itself.
+    """
+    p = norm(path)
+    d = p if os.path.isdir(p) else os.path.dirname(p)
+    cur = d
+    for _ in range(max_up):
+        try:
+            names = os.listdir(cur)
+        except OSError:
+            names = []
+        if any(m in names for m in _ROOT_MARKERS):
+            return cur
+        for n in names:
+            if n.endswith(YAML_SUFFIXES) and _looks_like_project(os.path.join(cur, n)):
+                return cur
+        parent = os.path.dirname(cur)
+        if parent == cur:
+            break
+        cur = parent
+    parts = d.split(os.sep)
+    if "src" in parts:
+        i = len(parts) - 1 - parts[::-1].index("src")
+        return os.sep.join(parts[:i]) or os.sep
+    return d
+
+
+def _looks_like_project(path: str) -> bool:
+    try:
+        if os.path.getsize(path) > MAX_PROJECT_BYTES:
+            return False
+        with open(path, "rb") as fh:
+            head = fh.read()
+    except OSError:
+        return False
+    return re.search(rb"(?m)^configurations\s*:", head) is not None
+
+
+# ------------------------------------------------------------------ packages
+
+_NAME_RE = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
+_COMMENT_RE = re.compile(r"<!--.*?-->", re.S)
+
+
+def package_name(manifest_text: str) -> Optional[str]:
+    m = _NAME_RE.search(_COMMENT_RE.sub("", manifest_text))
+    return m.group(1) if m else None
+
+
+def find_all_packages(manifests: Iterable[str], read_file: ReadFile = default_read_file) -> dict[str, list[str]]:
+    """package name -> every folder with a package.xml of that name (shortest path first)."""
+    found: dict[str, list[str]] = {}
+    for m in sorted(manifests, key=lambda p: (p.count(os.sep), p)):
+        text = read_file(m)
+        if text is None:
+            continue
+        name = package_name(text)
+        if name:
+            found.setdefault(name, []).append(os.path.dirname(m))
+    return found
+
+
+def find_packages(manifests: Iterable[str], read_file: ReadFile = default_read_file) -> dict[str, str]:
+    """package name -> package folder.  With several folders of one name, the shortest path wins
+    (as catkin's overlay order would pick the workspace's own over a nested copy)."""
+    return {k: v[0] for k, v in find_all_packages(manifests, read_file).items()}
+
+
+def nearest_package(name: str, near: str, packages: dict) -> Optional[str]:
+    """The folder of package ``name`` closest to the folder ``near`` (longest common path):
+    a project file or launch file means the package of its own workspace."""
+    cands = packages.get(name)
+    if not cands:
+        return None
+    if isinstance(cands, str):
+        return cands
+
+    def score(folder: str) -> tuple:
+        try:
+            common = os.path.commonpath([folder, near])
+        except ValueError:
+            common = ""
+        return (-len(common), folder.count(os.sep), folder)
+    return min(cands, key=score)
+
+
+# ------------------------------------------------------------------ pairing
+
+@dataclass(frozen=True)
+class Pairing:
+    """Which model configures a launch file, and which rule said so."""
+    launch: str
+    model: Optional[str]
+    rule: str  # "haros-project" | "marker" | "same-stem" | "none"
+    source_path: Optional[str] = None  # the project file / the launch file (marker) / None
+    source_span: Optional[Span] = None  # where in source_path the pairing is written
+    configuration: Optional[str] = None  # the project file's configuration name, if any
+
+    def describe(self, relto: Optional[str] = None) -> str:
+        def rel(p: str) -> str:
+            if relto:
+                try:
+                    return os.path.relpath(p, relto)
+                except ValueError:
+                    return p
+            return p
+        if self.model is None:
+            return "not paired with a model: its top-level args are free booleans"
+        where = ""
+        if self.source_path and self.source_span:
+            where = f" ({rel(self.source_path)}:{self.source_span.start})"
+        how = {RULE_PROJECT: "by a HAROS project file", RULE_MARKER: "by a tvl-lsp marker",
+               RULE_STEM: "by the same file name"}.get(self.rule, self.rule)
+        return f"paired with {rel(self.model)} {how}{where}"
+
+
+@dataclass
+class ProjectConfiguration:
+    name: Optional[str]
+    launches: list[tuple[str, Span]]  # resolved path, span of the value in the project file
+    model: Optional[tuple[str, Span]]
+    span: Span
+
+
+@dataclass
+class ProjectFile:
+    path: str
+    configurations: list[ProjectConfiguration] = field(default_factory=list)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+
+def _mark_pos(mark) -> Pos:
+    return Pos(mark.line, mark.column)
+
+
+def _node_span(node) -> Span:
+    s, e = node.start_mark, node.end_mark
+    # a plain multi-line scalar's end mark can sit past trailing blanks; clamp to start if odd
+    if (e.line, e.column) < (s.line, s.column):
+        e = s
+    return Span(_mark_pos(s), _mark_pos(e))
+
+
+def _resolve_pkg_path(rel: str, base_dir: str, packages: dict[str, str]) -> tuple[Optional[str], str]:
+    """HAROS paths are ``package/path/in/package``.  Returns (path or None, reason)."""
+    rel = rel.strip()
+    m = re.match(r"\$\(find\s+([^)\s]+)\)/?(.*)$", rel)
+    if m:
+        pkg, rest = m.group(1), m.group(2)
+    else:
+        pkg, _, rest = rel.partition("/")
+    cands = []
+    folder = nearest_package(pkg, base_dir, packages)
+    if folder is not None:
+        cands.append(os.path.join(folder, rest))
+    if not m:
+        cands.append(os.path.join(base_dir, rel))
+        cands.append(os.path.join(base_dir, "src", rel))
+    for c in cands:
+        if os.path.isfile(c):
+            return norm(c), ""
+    if pkg not in packages:
+        close = difflib.get_close_matches(pkg, sorted(packages), n=1)
+        hint = f"; did you mean `{close[0]}`?" if close else ""
+        return None, f"no package `{pkg}` in the workspace and no file `{rel}`{hint}"
+    return None, f"`{rest}` does not exist in package `{pkg}` ({folder})"
+
+
+def parse_project(path: str, text: str, packages: dict) -> Optional[ProjectFile]:
+    """Parse a HAROS project file.  ``None`` if the YAML is not a project file at all (valid
+    YAML without ``configurations``); malformed YAML that looks like one gets a diagnostic."""
+    import yaml
+
+    pf = ProjectFile(path=path)
+    base_dir = os.path.dirname(path)
+
+    def diag(code: str, span: Span, msg: str, sev: Severity = Severity.ERROR) -> None:
+        pf.diagnostics.append(Diagnostic(code, sev, path, span, msg))
+
+    try:
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.YAMLError as exc:
+        if not re.search(r"(?m)^configurations\s*:", text):
+            return None
+        mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
+        pos = _mark_pos(mark) if mark is not None else Pos(0, 0)
+        idx = LineIndex(text)
+        end = idx.pos(idx.offset(pos) + 1)
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        diag(INVALID_PROJECT, Span(pos, max(end, pos)), f"the HAROS project file is not valid YAML: {problem}")
+        return pf
+    except Exception as exc:  # recursion limits and the like: never crash on bad input
+        if not re.search(r"(?m)^configurations\s*:", text):
+            return None
+        diag(INVALID_PROJECT, Span(Pos(0, 0), Pos(0, 0)), f"the HAROS project file cannot be read: {exc}")
+        return pf
+
+    if not isinstance(root, yaml.MappingNode):
+        return None
+    confs = None
+    for k, v in root.value:
+        if isinstance(k, yaml.ScalarNode) and k.value == "configurations":
+            confs = (k, v)
+    if confs is None:
+        return None
+    key_node, node = confs
+
+    def scalars(n, what: str) -> list:
+        if isinstance(n, yaml.ScalarNode):
+            if n.value.strip() == "":
+                diag(INVALID_PROJECT, _node_span(n), f"`{what}` is empty")
+                return []
+            return [n]
+        if isinstance(n, yaml.SequenceNode):
+            out = []
+            for item in n.value:
+                if isinstance(item, yaml.ScalarNode) and item.value.strip():
+                    out.append(item)
+                else:
+                    diag(INVALID_PROJECT, _node_span(item), f"each item of `{what}` must be a file path")
+            return out
+        diag(INVALID_PROJECT, _node_span(n), f"`{what}` must be a file path or a list of file paths")
+        return []
+
+    def resolve(n, what: str) -> Optional[str]:
+        p, why = _resolve_pkg_path(n.value, base_dir, packages)
+        if p is None:
+            diag(PROJECT_FILE_NOT_FOUND, _node_span(n), f"{what} `{n.value.strip()}` not found: {why}")
+        return p
+
+    def config(n, name: Optional[str], name_node=None) -> None:
+        span = _node_span(name_node if name_node is not None else n)
+        if not isinstance(n, yaml.MappingNode):
+            diag(INVALID_PROJECT, _node_span(n),
+                 "a configuration must be a mapping with `lf` and `tvl` (HAROS-TVL) or `launch` (HAROS)")
+            return
+        keys = {k.value: (k, v) for k, v in n.value if isinstance(k, yaml.ScalarNode)}
+        launch_key = "lf" if "lf" in keys else "launch" if "launch" in keys else None
+        launches: list[tuple[str, Span]] = []
+        model = None
+        if launch_key is not None:
+            for s in scalars(keys[launch_key][1], launch_key):
+                p = resolve(s, "launch file")
+                if p is not None:
+                    if not is_launch(p):
+                        diag(INVALID_PROJECT, _node_span(s), f"`{s.value.strip()}` is not a launch file (.launch, .launch.xml)",
+                             Severity.WARNING)
+                    launches.append((p, _node_span(s)))
+        if "tvl" in keys:
+            ss = scalars(keys["tvl"][1], "tvl")
+            if len(ss) > 1:
+                diag(INVALID_PROJECT, _node_span(keys["tvl"][1]), "`tvl` names one model, not a list")
+            if ss:
+                p = resolve(ss[0], "model")
+                if p is not None:
+                    model = (p, _node_span(ss[0]))
+        if launch_key == "lf" and "tvl" not in keys:
+            close = difflib.get_close_matches("tvl", [k for k in keys if k != "lf"], n=1, cutoff=0.5)
+            hint = f" (is `{close[0]}` a typo for `tvl`?)" if close else ""
+            diag(INVALID_PROJECT, _node_span(keys["lf"][0]), f"a HAROS-TVL configuration with `lf` needs `tvl`, the model{hint}")
+        if launch_key is None:
+            where = _node_span(name_node) if name_node is not None else _node_span(n)
+            if "tvl" in keys:
+                diag(INVALID_PROJECT, _node_span(keys["tvl"][0]), "a configuration with `tvl` needs `lf`, the launch file")
+            else:
+                diag(INVALID_PROJECT, where, "a configuration needs `lf` and `tvl` (HAROS-TVL) or `launch` (HAROS)")
+        pf.configurations.append(ProjectConfiguration(name, launches, model, span))
+
+    if isinstance(node, yaml.MappingNode):
+        keys = [k.value for k, _ in node.value if isinstance(k, yaml.ScalarNode)]
+        if any(k in ("lf", "tvl", "launch") for k in keys):
+            config(node, None)
+        else:
+            for k, v in node.value:
+                config(v, k.value if isinstance(k, yaml.ScalarNode) else None, k)
+    elif isinstance(node, yaml.SequenceNode):
+        for item in node.value:
+            config(item, None)
+    elif isinstance(node, yaml.ScalarNode) and node.value == "":
+        diag(INVALID_PROJECT, _node_span(key_node), "`configurations` is empty", Severity.WARNING)
+    else:
+        diag(INVALID_PROJECT, _node_span(node), "`configurations` must be a mapping or a list of configurations")
+    return pf
+
+
+MARKER_RE = re.compile(
+    r"<!--\s*tvl-lsp\s*:\s*model\s*=\s*(?:\"(?P<q>[^\"]*)\"|'(?P<s>[^']*)'|(?P<p>[^\s\"'>]+?))\s*-->")
+
+
+def find_marker(text: str) -> Optional[tuple[str, int, int]]:
+    """The ``<!-- tvl-lsp: model=PATH -->`` marker: (PATH, start offset, end offset of PATH)."""
+    m = MARKER_RE.search(text)
+    if not m:
+        return None
+    g = "q" if m.group("q") is not None else "s" if m.group("s") is not None else "p"
+    return m.group(g), m.start(g), m.end(g)
+
+
+@dataclass
+class Workspace:
+    """Everything known about a tree of files.  Build it with :func:`load_workspace`."""
+    roots: tuple[str, ...]
+    files: Files
+    packages: dict[str, str]            # name -> folder (the shortest path of that name)
+    projects: list[ProjectFile]
+    read_file: ReadFile = default_read_file
+    all_packages: dict[str, list[str]] = field(default_factory=dict)
+    # launch path -> pairings from project files (rule 1), in project-file order
+    project_pairings: dict[str, list[Pairing]] = field(default_factory=dict)
+
+    @property
+    def diagnostics(self) -> list[Diagnostic]:
+        return [d for p in self.projects for d in p.diagnostics]
+
+    def package_of(self, path: str) -> Optional[str]:
+        """The name of the package whose folder contains ``path``."""
+        best = None
+        for name, folder in self.packages.items():
+            if path.startswith(folder + os.sep) and (best is None or len(folder) > len(self.packages[best])):
+                best = name
+        return best
+
+    def pair(self, launch: str, text: Optional[str] = None) -> tuple[list[Pairing], list[Diagnostic]]:
+        """Pairings of one launch file (``text`` = its current content, e.g. an unsaved buffer),
+        and diagnostics about its marker.  Always at least one Pairing (rule ``none`` when alone)."""
+        launch = norm(launch)
+        if launch in self.project_pairings:
+            return list(self.project_pairings[launch]), []
+        if text is None:
+            text = self.read_file(launch) or ""
+        diags: list[Diagnostic] = []
+        mk = find_marker(text)
+        if mk is not None:
+            ref, s, e = mk
+            idx = LineIndex(text)
+            span = idx.span(s, e)
+            if ref.strip().lower() == "none":
+                return [Pairing(launch, None, RULE_MARKER, launch, span)], []
+            m = re.match(r"\$\(find\s+([^)\s]+)\)/?(.*)$", ref)
+            if m:
+                folder = nearest_package(m.group(1), os.path.dirname(launch), self.all_packages or self.packages)
+                cand = norm(os.path.join(folder, m.group(2))) if folder else None
+            else:
+                cand = norm(os.path.join(os.path.dirname(launch), ref))
+            if cand and self._exists(cand):
+                return [Pairing(launch, cand, RULE_MARKER, launch, span)], []
+            why = (f"package `{m.group(1)}` is not in the workspace" if m and not self.packages.get(m.group(1))
+                   else f"`{ref}` does not exist")
+            diags.append(Diagnostic(MARKER_MODEL_NOT_FOUND, Severity.ERROR, launch, span,
+                                    f"the model named by this tvl-lsp marker was not found: {why}"))
+        stem = os.path.join(os.path.dirname(launch), launch_stem(launch) + ".tvl")
+        if self._exists(stem):
+            return [Pairing(launch, stem, RULE_STEM)], diags
+        return [Pairing(launch, None, RULE_NONE)], diags
+
+    def _exists(self, path: str) -> bool:
+        return path in self._model_set or os.path.isfile(path)
+
+    @property
+    def _model_set(self) -> set[str]:
+        s = getattr(self, "_models_cache", None)
+        if s is None:
+            s = set(self.files.models)
+            object.__setattr__(self, "_models_cache", s)
+        return s
+
+    def launches_for_model(self, model: str) -> list[Pairing]:
+        """Every pairing of a launch file of this workspace with ``model``."""
+        model = norm(model)
+        out = []
+        for lf in self.files.launches:
+            for p in self.pair(lf)[0]:
+                if p.model == model:
+                    out.append(p)
+        return out
+
+
+def load_workspace(roots: Iterable[str], read_file: Optional[ReadFile] = None,
+                   files: Optional[Files] = None) -> Workspace:
+    """Discover files under ``roots`` (unless ``files`` is given), find packages and read the
+    HAROS project files."""
+    read_file = read_file or default_read_file
+    roots = tuple(sorted({norm(r) for r in roots}))
+    files = files if files is not None else discover_files(roots)
+    all_packages = find_all_packages(files.manifests, read_file)
+    packages = {k: v[0] for k, v in all_packages.items()}
+    projects: list[ProjectFile] = []
+    for y in files.yamls:
+        try:
+            if os.path.getsize(y) > MAX_PROJECT_BYTES:
+                continue
+        except OSError:
+            pass
+        text = read_file(y)
+        if text is None or "configurations" not in text:
+            continue
+        pf = parse_project(y, text, all_packages)
+        if pf is not None:
+            projects.append(pf)
+    ws = Workspace(roots, files, packages, projects, read_file, all_packages)
+    for pf in projects:
+        for c in pf.configurations:
+            for lf, span in c.launches:
+                if c.model is None:
+                    continue
+                lst = ws.project_pairings.setdefault(lf, [])
+                if all(p.model != c.model[0] for p in lst):
+                    lst.append(Pairing(lf, c.model[0], RULE_PROJECT, pf.path, span, c.name))
+    return ws
