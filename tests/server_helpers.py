@@ -122,18 +122,26 @@ def install_client_handlers(client: LanguageClient) -> None:
 
     @client.feature(types.WORKSPACE_APPLY_EDIT)
     def apply_edit(params: types.ApplyWorkspaceEditParams):
-        from lsprotocol.types import CreateFile, TextDocumentEdit
-        from tvl_lsp.lsp_convert import uri_to_path
         client.applied_edits.append(params.edit)
-        for ch in params.edit.document_changes or []:
-            if isinstance(ch, CreateFile):
-                p = Path(uri_to_path(ch.uri))
-                p.parent.mkdir(parents=True, exist_ok=True)
-                p.write_text("")
-            elif isinstance(ch, TextDocumentEdit):
-                p = Path(uri_to_path(ch.text_document.uri))
-                p.write_text(apply_text_edits(p.read_text() if p.exists() else "", ch.edits))
-        for uri, edits in (params.edit.changes or {}).items():
-            p = Path(uri_to_path(uri))
-            p.write_text(apply_text_edits(p.read_text(), edits))
+        apply_workspace_edit(params.edit)
         return types.ApplyWorkspaceEditResult(applied=True)
+
+
+def apply_workspace_edit(edit: types.WorkspaceEdit) -> list[Path]:
+    """Apply a WorkspaceEdit to disk as an editor would; returns the files touched."""
+    from tvl_lsp.lsp_convert import uri_to_path
+    touched = []
+    for ch in edit.document_changes or []:
+        if isinstance(ch, types.CreateFile):
+            p = Path(uri_to_path(ch.uri))
+            p.parent.mkdir(parents=True, exist_ok=True)
+            p.write_text("")
+        elif isinstance(ch, types.TextDocumentEdit):
+            p = Path(uri_to_path(ch.text_document.uri))
+            p.write_text(apply_text_edits(p.read_text() if p.exists() else "", ch.edits))
+            touched.append(p)
+    for uri, edits in (edit.changes or {}).items():
+        p = Path(uri_to_path(uri))
+        p.write_text(apply_text_edits(p.read_text(), edits))
+        touched.append(p)
+    return touched

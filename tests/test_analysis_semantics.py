@@ -154,3 +154,33 @@ def test_layout_does_not_change_the_cache_key():
     assert a.encoding.logical_key() == b.encoding.logical_key()
     c = analysis("root R { group someOf { A, B } }")
     assert c.encoding.logical_key() != a.encoding.logical_key()
+
+
+@pytest.mark.parametrize("text,expected", [
+    ("root R { group someOf { A, B, C } count(selectedChildren) == 2; }", 3),
+    ("root R { group someOf { A, B, C } count(selectedChildren) <= 1; }", 3),
+    # sums: A 3, B -2, C 5; |sum| < 4 for A, B, AB (1), BC (3)
+    ("root R { int p is sum(selectedChildren.v); group someOf { A { int v is 3; }, B { int v is -2; }, "
+     "C { int v is 5; } } abs(p) < 4; }", 4),
+    ("root R { int m is max(selectedChildren.v); group someOf { A { int v is 3; }, B { int v is 1; }, "
+     "C { int v is 5; } } m < 5; }", 3),
+    ("root R { int m is min(selectedChildren.v); group someOf { A { int v is 3; }, B { int v is 1; }, "
+     "C { int v is 5; } } m > 2; }", 3),
+    ("root R { group allOf { opt A, opt B } (A ? B : !B); }", 2),
+    ("root R { bool b; group allOf { opt A, opt B } b -> A; !b -> B; }", 3),
+    ("root R { enum c in {x, y, z}; group allOf { opt A, opt B } A -> c in {x, y}; B -> c == z; }", 3),
+    ("root R { int n in [0..10]; group allOf { opt A, opt B } A -> n * 2 > 15; B -> n + 3 < 5; }", 3),
+    ("root R { group allOf { opt A { int w in {1, 2}; }, opt B { int w in {3}; } } A.w + B.w == 4; }", 4),
+    ("root R { group allOf { opt A, opt B } and(A, B) || xor(A, B); }", 3),
+    # an ifIn value outside the attribute's domain makes its feature dead
+    ("root R { group allOf { opt A { int n in [1..3], ifIn: is 2; }, opt B } }", 4),
+    ("root R { group allOf { opt A { int n, ifIn: is 2, ifOut: is 7; }, opt B } B -> A.n > 5; }", 3),
+])
+def test_expressions_and_attributes(text, expected):
+    assert count(text) == expected
+
+
+def test_attribute_value_outside_its_domain_kills_its_feature():
+    text = "root R { group allOf { opt A { int n in [1..3], ifIn: is 5; }, opt B } }"
+    a = ModelAnalysis(parse_model(text, "x.tvl").model)  # the checker reports the value too
+    assert a.count() == 2 and a.dead_features() == ["A"]

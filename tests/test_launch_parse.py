@@ -100,7 +100,7 @@ def test_deep_nesting_gives_a_diagnostic_not_a_crash():
 
 
 def test_huge_file_is_analysed_in_bounded_time():
-    n = 8_000
+    n = 5_000
     body = "\n".join(f'  <node pkg="p" type="t" name="n{i}" if="$(arg A)"/>' for i in range(n))
     text = f'<launch>\n  <arg name="A"/>\n{body}\n  <node pkg="p" type="t" name="n7"/>\n</launch>\n'
     t = time.time()
@@ -122,3 +122,18 @@ def test_binary_garbage_does_not_crash():
                  "<launch><node pkg='a' type='b' name='c' if='$(eval __import__(\"os\"))'/></launch>"]:
         a = analyse_launch(text, "/w/g.launch")
         check_launch(a)
+
+
+def test_deep_groups_inside_nested_includes_do_not_overflow(tmp_path):
+    ws = tmp_path / "ws" / "src" / "deep"
+    (ws / "launch").mkdir(parents=True)
+    (ws / "package.xml").write_text("<package><name>deep</name></package>")
+    for i in range(15):
+        nxt = f'<include file="$(find deep)/launch/f{i + 1}.launch"/>' if i < 14 else ""
+        body = "<group>" * 95 + f'<node pkg="p" type="t" name="n{i}"/>{nxt}' + "</group>" * 95
+        (ws / "launch" / f"f{i}.launch").write_text(f"<launch>{body}</launch>")
+    p = ws / "launch" / "f0.launch"
+    from tvl_lsp.launch import find_packages
+    a = analyse_launch(p.read_text(), str(p), packages=find_packages(str(tmp_path / "ws")))
+    assert a.nodes and a.nodes[0].name == "/n0"
+    assert {f.code for f in a.facts} & {"launch-analysis-budget", "include-too-deep"}

@@ -16,9 +16,9 @@ from server_helpers import (CONFIG, PROFILES, REPO, apply_text_edits, codes, cop
                             install_client_handlers, open_doc, position_of, start)
 
 
-@pytest_lsp.fixture(config=CONFIG, params=PROFILES)
-async def client(lsp_client: LanguageClient, request, tmp_path):
-    ws = copy_ws(tmp_path)
+@pytest_lsp.fixture(config=CONFIG, params=PROFILES, scope="module")
+async def client(lsp_client: LanguageClient, request, tmp_path_factory):
+    ws = copy_ws(tmp_path_factory.mktemp("ws"))
     lsp_client.ws = ws
     install_client_handlers(lsp_client)
     await start(lsp_client, request.param, ws)
@@ -111,20 +111,20 @@ async def test_generate_turtlerand_configurations(client: LanguageClient):
         text_document=types.TextDocumentIdentifier(uri=uri),
         range=types.Range(start=types.Position(line=0, character=0), end=types.Position(line=0, character=0)),
         context=types.CodeActionContext(diagnostics=[])))
-    gen = [_command_of(a) for a in actions]
-    gen = [(c, args) for c, args in gen if c == "tvl-lsp.generateConfigurations" and args[0]["mode"] == "all"]
-    assert gen
-    res = await client.workspace_execute_command_async(types.ExecuteCommandParams(
-        command=gen[0][0], arguments=gen[0][1]))
-    files = [Path(f) for f in res["files"]]
+    gen = [a for a in actions if isinstance(a, types.CodeAction) and a.data
+           and a.data.get("tvl-lsp.generate", {}).get("mode") == "all"]
+    assert gen, actions
+    resolved = await client.code_action_resolve_async(gen[0])
+    from server_helpers import apply_workspace_edit
+    files = sorted(apply_workspace_edit(resolved.edit))
     assert len(files) == 4 and all(f.is_file() for f in files)
     assert all(f.parent == client.ws / "src/turtlerand/configs" for f in files)
     texts = [f.read_text() for f in files]
     assert all('<include file="$(find turtlerand)/launch/generic.launch">' in t for t in texts)
     # deterministic: the same request names the same files
-    res2 = await client.workspace_execute_command_async(types.ExecuteCommandParams(
-        command=gen[0][0], arguments=gen[0][1]))
-    assert res2["files"] == res["files"]
+    res = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+        command="tvl-lsp.generateConfigurations", arguments=[gen[0].data["tvl-lsp.generate"]]))
+    assert sorted(Path(f) for f in res["files"]) == files and res["applied"]
     if not _roslaunch_available():
         pytest.skip("Debian's roslaunch is not installed")
     jobs = [{"file": str(f), "args": {}, "package_path": str(client.ws / "src")} for f in files]

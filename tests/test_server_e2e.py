@@ -12,9 +12,9 @@ from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, 
                             install_client_handlers, open_doc, position_of, start)
 
 
-@pytest_lsp.fixture(config=CONFIG, params=PROFILES)
-async def client(lsp_client: LanguageClient, request, tmp_path):
-    ws = copy_ws(tmp_path)
+@pytest_lsp.fixture(config=CONFIG, params=PROFILES, scope="module")
+async def client(lsp_client: LanguageClient, request, tmp_path_factory):
+    ws = copy_ws(tmp_path_factory.mktemp("ws"))
     lsp_client.ws = ws
     lsp_client.profile = request.param
     install_client_handlers(lsp_client)

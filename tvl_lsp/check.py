@@ -236,7 +236,7 @@ def _note_pairing(d: Diagnostic, p: Pairing) -> Diagnostic:
 class _Unit:
     model: Optional[str]           # the model this unit is about (None: unpaired launch files)
     model_wanted: bool              # report the model's own diagnostics
-    launches: tuple                 # ((launch path, (Pairing, ...)), ...)
+    launches: tuple                 # ((launch path, (Pairing, ...), workspace root), ...)
     root: Optional[str]
     timeout: Optional[float] = 10.0
 
@@ -251,9 +251,9 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
             models[unit.model] = info
             if info is not None:
                 out += info.diagnostics
-        for lf, pairings in unit.launches:
+        for lf, pairings, root in unit.launches:
             try:
-                out += check_launch(lf, None, pairings, unit.root, read_file, models, unit.timeout)
+                out += check_launch(lf, None, pairings, root, read_file, models, unit.timeout)
             except Exception as exc:
                 out.append(_internal(lf, f"check failed: {exc!r}"))
     except Exception as exc:
@@ -317,9 +317,9 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
         pre += pdiags
         modelled = [p for p in pairings if p.model is not None]
         if not modelled:
-            alone.append((lf, tuple(pairings)))
+            alone.append((lf, tuple(pairings), r))
         for p in modelled:
-            by_model.setdefault(p.model, []).append((lf, (p,)))
+            by_model.setdefault(p.model, []).append((lf, (p,), r))
     target_models = set(targets.models)
     units: list[_Unit] = []
     for m in sorted(set(by_model) | target_models):
@@ -338,10 +338,11 @@ def check_paths(paths: Sequence[str], read_file: Optional[ReadFile] = None, jobs
     """Check every model, launch file and HAROS project file under ``paths``."""
     paths = [norm(p) for p in (paths or ["."])]
     units, out, nfiles = plan(paths, read_file, timeout)
+    auto = jobs is None
     if jobs is None:
         jobs = os.cpu_count() or 1
     jobs = max(1, min(jobs, len(units)))
-    if read_file is not None or jobs == 1 or nfiles < PARALLEL_MIN_FILES:
+    if read_file is not None or jobs == 1 or (auto and nfiles < PARALLEL_MIN_FILES):
         for u in units:
             out += _run_unit(u, read_file)
     else:

@@ -322,6 +322,8 @@ def _resolve_pkg_path(rel: str, base_dir: str, packages: dict[str, str]) -> tupl
     for c in cands:
         if os.path.isfile(c):
             return norm(c), ""
+    if not m and "/" not in rel:
+        return None, "there is no such file next to the project file (HAROS paths are package/path/in/package)"
     if pkg not in packages:
         close = difflib.get_close_matches(pkg, sorted(packages), n=1)
         hint = f"; did you mean `{close[0]}`?" if close else ""

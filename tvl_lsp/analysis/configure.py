@@ -13,7 +13,7 @@ from typing import Mapping, Optional, TYPE_CHECKING
 from pysat.solvers import Solver
 
 from .count import CountCancelled, CountTimeout
-from .solve import SOLVER
+from .solve import SOLVER, backbone_of
 
 if TYPE_CHECKING:
     from .engine import ModelAnalysis
@@ -64,19 +64,7 @@ def propagate(analysis: "ModelAnalysis", decisions: Mapping[str, bool], count: b
         m = s.get_model()
         decided = {abs(x) for x in lits}
         cand = {v: m[v - 1] > 0 for v in range(1, n + 1) if v not in decided}
-        forced: dict[int, bool] = {}
-        for v in list(cand):
-            if v not in cand:
-                continue
-            lit = v if cand[v] else -v
-            s.set_phases([(-u if cand[u] else u) for u in cand])
-            if s.solve(assumptions=assumptions + [-lit]):
-                m2 = s.get_model()
-                for u in list(cand):
-                    if (m2[u - 1] > 0) != cand[u]:
-                        del cand[u]
-            else:
-                forced[v] = cand.pop(v)
+        forced = backbone_of(s, cand, assumptions)
         res.forced = {enc.name_of(enc.feature_of_var[v]): val for v, val in sorted(forced.items())}
         res.open = [enc.name_of(f) for f, v in enc.var_of_feature.items()
                     if v not in decided and v not in forced]

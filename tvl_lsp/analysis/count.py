@@ -75,8 +75,14 @@ def _is_cancelled(cancel: CancelLike) -> bool:
     return bool(cancel())
 
 
-def _count_inprocess(nvars: int, clauses: Iterable[Sequence[int]], projection: Optional[Sequence[int]]) -> int:
+def _count_inprocess(nvars: int, clauses: Sequence[Sequence[int]], projection: Optional[Sequence[int]]) -> int:
     import pyganak
+    from pysat.solvers import Solver
+    # pyganak writes "c o intermediate count: 0" on stdout for an unsatisfiable CNF; stdout is
+    # the language server's channel, so settle that case with a SAT call first
+    with Solver(name="minisat22", bootstrap_with=[c for c in clauses if c]) as s:
+        if any(not c for c in clauses) or not s.solve():
+            return 0
     c = pyganak.Counter()
     if nvars:
         c.new_vars(nvars)

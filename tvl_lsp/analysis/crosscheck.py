@@ -34,6 +34,7 @@ output is the same whether files are checked serially or in parallel.
 from __future__ import annotations
 
 import difflib
+import os
 import re
 from typing import Iterable, Optional
 
@@ -62,6 +63,7 @@ _ARG_REF = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
 _STRINGY = re.compile(r"""(==|!=|\bin\b)\s*['"\[]|['"]\s*(==|!=)""")
 _EVAL_ARG_REF = re.compile(r"arg\(\s*['\"]([^'\"]+)['\"]\s*\)")
 MAX_COND_TEXT = 160
+CANONICAL_MAX_VARS = 400
 
 
 # ------------------------------------------------------------------ logic
@@ -177,10 +179,33 @@ class PairLogic:
         """f holds in every product (vacuously true for a void model)."""
         return not self.sat(fm.neg(f))
 
-    def witness(self, f: fm.Formula) -> Optional[dict[str, bool]]:
-        """A product satisfying f with the fewest selected features (and free args)."""
+    def lit(self, f: fm.Formula):
+        """A solver literal (or a bool) equivalent to f."""
+        return self._lit(f)
+
+    def and_lits(self, a, b):
+        """A literal (or bool) for ``a && b`` of two literals / bools."""
+        if a is False or b is False:
+            return False
+        if a is True:
+            return b
+        if b is True:
+            return a
+        y = self._new()
+        self.solver.add_clause([-y, a])
+        self.solver.add_clause([-y, b])
+        self.solver.add_clause([y, -a, -b])
+        return y
+
+    def witness(self, f: fm.Formula, guard=True) -> Optional[dict[str, bool]]:
+        """A product satisfying f (and the literal ``guard``) with the fewest selected
+        features (and free args)."""
         a = self._assume(f)
-        if a is None or not self.solver.solve(assumptions=a):
+        if a is None or guard is False:
+            return None
+        if guard is not True:
+            a = a + [guard]
+        if not self.solver.solve(assumptions=a):
             return None
         # names created by f itself must be counted too: rebuild the totalizer when they grew
         lits = [v for _, v in self.names]
@@ -205,6 +230,23 @@ class PairLogic:
                 break
             best = self.solver.get_model() or []
             count = sum(1 for v in lits if on(best, v))
+        if len(lits) <= CANONICAL_MAX_VARS:
+            # canonical among the smallest: prefer the features declared first, so the answer
+            # does not depend on what the solver was asked before
+            fixed: list[int] = []
+            bound = [-rhs[count]] if count < len(lits) else []
+            for v in lits:
+                if sum(1 for x in fixed if x > 0) >= count:
+                    fixed.append(-v)
+                    continue
+                if on(best, v) or self.solver.solve(assumptions=a + bound + fixed + [v]):
+                    if not on(best, v):
+                        best = self.solver.get_model() or []
+                    fixed.append(v)
+                else:
+                    fixed.append(-v)
+            if self.solver.solve(assumptions=a + bound + fixed):
+                best = self.solver.get_model() or best
         return {name: on(best, v) for name, v in self.names}
 
 
@@ -234,7 +276,8 @@ def _closest(name: str, candidates: list[str]) -> Optional[str]:
 
 
 def _start_tag(e) -> Span:
-    return e.tag_span or e.span
+    """The element's start tag, '<' to '>' (the launch front end's Element.span)."""
+    return e.span
 
 
 def _has_cond(e) -> bool:
@@ -349,16 +392,89 @@ def _when(cond: fm.Formula, witness: dict[str, bool]) -> str:
     return f" (when {_cond_text(cond)}; e.g. in the product {_selected(witness)})"
 
 
+def _include_anchors(launch):
+    """included file -> the first <include> element of the analysed file through which it is
+    loaded (directly or through further includes)."""
+    first: dict[str, object] = {}
+
+    def files(inc) -> list[str]:
+        out = [inc.file] if inc.file else []
+        for c in inc.children:
+            out += files(c)
+        return out
+
+    for inc in getattr(launch, "includes", None) or []:
+        el = inc.element
+        if getattr(el, "include_depth", 0) != 0 or el.path != launch.path:
+            continue
+        for f in files(inc):
+            first.setdefault(f, el)
+            first.setdefault(os.path.abspath(f), el)
+    return lambda path: first.get(path) or first.get(os.path.abspath(path))
+
+
+_NO_VALUE_NAME = re.compile(r"\('([^']+)' has none\)")
+_MISSING_NAME = re.compile(r"requires the '([^']+)' arg|arg '([^']+)' is not defined|'([^']+)' is not declared")
+
+
 def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnostic]:
     out = []
+    known = sorted({e.attrs["name"].value for e in launch.elements if e.tag == "arg" and "name" in e.attrs}
+                   | {n for n, _ in logic.names})
+    # roslaunch stops at the first error: prefer a witness where no earlier error is raised,
+    # so that roslaunch, run with it, raises this one (facts come in roslaunch's order)
+    clear = True   # literal: no error fact so far holds
+    # args whose every declaration here has a default / value: "unset" only when evaluating that
+    # default failed (e.g. $(env X) with X unset) -- roslaunch stops at that failure, which is
+    # reported; the "unset" consequences are not
+    decls: dict[str, list] = {}
+    for e in launch.elements:
+        if e.tag == "arg" and "name" in e.attrs and e.path == launch.path:
+            decls.setdefault(e.attrs["name"].value, []).append(e)
+    valued = {n for n, es in decls.items() if all("default" in e.attrs or "value" in e.attrs for e in es)}
+    anchor = _include_anchors(launch)
     for fact in launch.facts:
-        w = logic.witness(fact.condition)
+        if fact.code in ("unset-arg", "include-arg-no-value") and fact.path == launch.path:
+            m = _MISSING_NAME.search(fact.message) or _NO_VALUE_NAME.search(fact.message)
+            name = next((g for g in m.groups() if g), None) if m else None
+            if name in valued:
+                continue
+        w = logic.witness(fact.condition, clear) if clear is not False else None
+        if w is None:
+            w = logic.witness(fact.condition)
+        if fact.severity == Severity.ERROR and clear is not False:
+            c = logic.lit(fact.condition)
+            clear = logic.and_lits(clear, (not c) if isinstance(c, bool) else -c)
         if w is None:
             continue
         related = [r if isinstance(r, Related) else Related(r[0], r[1], r[2]) for r in fact.related]
-        out.append(Diagnostic(fact.code, fact.severity, fact.path, fact.span,
-                              fact.message + _when(fact.condition, w), related=related, witness=w,
-                              data={"condition": str(fact.condition)}))
+        msg = fact.message
+        data = {"condition": str(fact.condition)}
+        if fact.code == "undefined-arg" and "did you mean" not in msg:
+            m = _MISSING_NAME.search(msg)
+            if m:
+                name = next(g for g in m.groups() if g)
+                sug = _closest(name, [n for n in known if n != name])
+                if sug:
+                    msg += f"; did you mean `{sug}`?"
+                    data["suggestion"] = sug
+                data["arg"] = name
+        path, span = fact.path, fact.span
+        if path != launch.path:
+            # an error inside an included file, for the args this file passes: reported on the
+            # <include> here (the included file checked alone may well be fine)
+            inc = anchor(path)
+            if inc is None:
+                continue
+            related = [Related(fact.path, fact.span, "the error, in the included file")] + related
+            msg = f"in the included file {os.path.basename(fact.path)}: {msg}"
+            path, span = launch.path, inc.span
+        if fact.condition == fm.TRUE and fact.severity >= Severity.INFORMATION:
+            if path == fact.path:
+                out.append(Diagnostic(fact.code, fact.severity, path, span, msg, related=related))
+            continue
+        out.append(Diagnostic(fact.code, fact.severity, path, span,
+                              msg + _when(fact.condition, w), related=related, witness=w, data=data))
     return out
 
 

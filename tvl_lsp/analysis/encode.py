@@ -396,12 +396,42 @@ class Encoding:
                                   c.path, c.span, c, clauses, negation=neg))
 
     def _encode_attributes(self) -> None:
+        """Attributes no constraint reads (the constraints pulled in the others already).
+
+        Such an attribute matters only if its own ``is`` / ``in`` parts restrict the features
+        (``int a in [1..3] is 5`` makes its owner impossible).  Encode it on the side first: if
+        it mentions no feature but its owner and holds both with and without its owner, leave
+        it out -- its values are existentially quantified anyway, and big one-hot domains slow
+        the projected counts down for nothing."""
+        from pysat.solvers import Solver
         for f in self.features:
             for a in f.attributes:
+                if id(a) in self._attr_terms:
+                    continue
+                saved = (self.b, self.hard, self.elements, dict(self._attr_terms))
+                self.hard = []
+                self.b = _Builder(saved[0].top, self.hard)
+                self.elements = []
+                try:
+                    self._attr_term(a, f)
+                    ok = True
+                except NotEncodable:
+                    ok = False  # reported when a constraint needs it
+                side = self.hard + [c for e in self.elements for c in e.clauses]
+                self.b, self.hard, self.elements, self._attr_terms = saved
+                self._clauses = None
+                if not ok:
+                    continue
+                ov = self.var_of_feature.get(f)
+                feats = {abs(x) for c in side for x in c if abs(x) <= self.n_features}
+                if feats <= {ov}:
+                    with Solver(name="minisat22", bootstrap_with=side) as sv:
+                        if all(sv.solve(assumptions=[x]) for x in ([ov, -ov] if ov in feats else [])) and sv.solve():
+                            continue
                 try:
                     self._attr_term(a, f)
                 except NotEncodable:
-                    pass  # reported when a constraint needs it
+                    pass
 
     # ------------------------------------------------------------------ assertions
     def _assert(self, e: M.Expr, prefix: list[Lit], pos: bool, out: list[list[int]], ctx) -> None:
@@ -863,6 +893,6 @@ class Encoding:
 def encode(model: M.Model) -> Encoding:
     enc = Encoding(model)
     enc._encode_structure()
+    enc._encode_constraints()  # pulls in the attributes the constraints read
     enc._encode_attributes()
-    enc._encode_constraints()
     return enc

@@ -15,6 +15,8 @@ Feature names are the short names when unique, else the long names ("Root.A.B"),
 
 from __future__ import annotations
 
+import functools
+import threading
 import time
 from typing import Iterable, Iterator, Mapping, Optional
 
@@ -41,8 +43,18 @@ ALWAYS_FALSE_CONSTRAINT = register("always-false-constraint", Severity.ERROR,
                                    "tree satisfies", "analysis")
 
 
+def _locked(fn):
+    """python-sat solvers are not thread-safe: one analysis answers one request at a time."""
+    @functools.wraps(fn)
+    def wrapper(self, *args, **kwargs):
+        with self._lock:
+            return fn(self, *args, **kwargs)
+    return wrapper
+
+
 class ModelAnalysis:
     def __init__(self, model: M.Model, encoding: Optional[Encoding] = None):
+        self._lock = threading.RLock()
         self.model = model
         self._enc = encoding
         self._an: Optional[Analyzer] = None
@@ -54,6 +66,7 @@ class ModelAnalysis:
 
     # ------------------------------------------------------------------ basics
     @property
+    @_locked
     def encoding(self) -> Encoding:
         if self._enc is None:
             self._enc = encode(self.model)
@@ -76,36 +89,44 @@ class ModelAnalysis:
         enc = self.encoding
         return {self.name(f): model[v - 1] > 0 for f, v in enc.var_of_feature.items()}
 
+    @_locked
     def is_void(self) -> bool:
         return self.analyzer.is_void()
 
+    @_locked
     def core_features(self) -> list[str]:
         return [self.name(f) for f in self.analyzer.core()]
 
+    @_locked
     def dead_features(self) -> list[str]:
         return [self.name(f) for f in self.analyzer.dead()]
 
+    @_locked
     def false_optional_features(self) -> list[str]:
         return [self.name(f) for f, _ in self.analyzer.false_optional()]
 
+    @_locked
     def explain(self, include: Iterable[str] = (), exclude: Iterable[str] = (),
                 formula: Optional[fm.Formula] = None) -> Optional[list[Element]]:
         """The minimal set of model elements that forbids the given partial configuration
         (and formula); None when some product allows it."""
         an = self.analyzer
         extra = self._lits(include, exclude)
+        side: list[list[int]] = []
         if formula is not None:
             an.selector_solver  # selectors numbered first
-            top = self.encoding.nvars + len(self.encoding.elements) + 1
+            top = max(an.selector_solver.nof_vars(), self.encoding.nvars + len(self.encoding.elements)) + 1
             cls, top2 = self.encoding.formula_clauses(formula, top)
             g = top2 + 1  # guard: the formula's clauses only hold under g
-            for c in cls:
-                an.selector_solver.add_clause(c + [-g])
+            side = [c + [-g] for c in cls]
+            for c in side:
+                an.selector_solver.add_clause(c)
             extra.append(g)
-        ex = an.explain(extra)
+        ex = an.explain(extra, side_clauses=side)
         return ex.elements if ex else None
 
     # ------------------------------------------------------------------ anomalies
+    @_locked
     def anomalies(self, time_budget: Optional[float] = 10.0) -> list[Diagnostic]:
         enc = self.encoding
         an = self.analyzer
@@ -162,6 +183,10 @@ class ModelAnalysis:
         redundant, _ = an.redundant_and_always_false(deadline=deadline)
         allsel = [e.selector for e in enc.elements]
         for e in redundant:
+            if e.negation == [False]:
+                out.append(Diagnostic(REDUNDANT_CONSTRAINT, Severity.INFORMATION, e.path, e.span,
+                                      "This constraint always holds: it constrains nothing."))
+                continue
             ex = explain([x for x in (e.negation or []) if x is not True],
                          among=[x for x in allsel if x != e.selector])
             out.append(Diagnostic(REDUNDANT_CONSTRAINT, Severity.INFORMATION, e.path, e.span,
@@ -190,6 +215,7 @@ class ModelAnalysis:
         projection = None if top == enc.n_features else enc.projection
         return count_cnf(top, clauses, projection, timeout=timeout, cancel=cancel, key=key)
 
+    @_locked
     def feature_counts(self, timeout: Optional[float] = None,
                        cancel: CancelLike = None) -> dict[str, int]:
         """Number of products containing each feature (dead: 0, core: the total).  With a

@@ -42,6 +42,30 @@ class Anomalies:
     always_false: list[Element] = field(default_factory=list)
 
 
+def backbone_of(s: Solver, cand: dict[int, bool], assumptions: list[int], record=None) -> dict[int, bool]:
+    """The candidates (var -> value seen in a solution) whose value is forced under the
+    assumptions.  Asks whether *some* candidate can flip (one clause over all of them, behind
+    a fresh activation literal): UNSAT proves every remaining candidate at once, SAT removes
+    every candidate the new solution flips.  The solver's phases are pushed towards flipping."""
+    cand = dict(cand)
+    top = max([s.nof_vars()] + [abs(x) for x in assumptions]) if cand else 0
+    while cand:
+        top += 1
+        act = top
+        s.add_clause([-act] + [(-v if val else v) for v, val in cand.items()])
+        s.set_phases([(-v if val else v) for v, val in cand.items()])
+        ok = s.solve(assumptions=assumptions + [act])
+        m = s.get_model() if ok else None
+        s.add_clause([-act])
+        if not ok:
+            break
+        if record is not None:
+            record(m)
+        for v in [v for v, val in cand.items() if (m[v - 1] > 0) != val]:
+            del cand[v]
+    return cand
+
+
 class Analyzer:
     def __init__(self, enc: Encoding):
         self.enc = enc
@@ -56,6 +80,7 @@ class Analyzer:
         self._witness: Optional[list[int]] = None
         self._opt_pairs: Optional[list] = None
         self._witnessed: set[tuple[int, int]] = set()
+        self._pending: Optional[list[tuple[int, int]]] = None
 
     # ------------------------------------------------------------------ solvers
     @property
@@ -99,9 +124,15 @@ class Analyzer:
             else:
                 self._seen_false.add(-x)
         # model-based filter for false-optional: this product shows "parent without child"
-        for pv, fv, _, _ in self._optional_pairs():
+        if self._pending is None:
+            self._pending = [(pv, fv) for pv, fv, _, _ in self._optional_pairs()]
+        keep = []
+        for pv, fv in self._pending:
             if model[pv - 1] > 0 and model[fv - 1] < 0:
                 self._witnessed.add((pv, fv))
+            else:
+                keep.append((pv, fv))
+        self._pending = keep
 
     # ------------------------------------------------------------------ detection
     def is_void(self) -> bool:
@@ -128,24 +159,9 @@ class Analyzer:
             t, f = v in self._seen_true, v in self._seen_false
             if t != f:
                 cand[v] = t
-        bb: dict[int, bool] = {}
-        for v in range(1, n + 1):
-            if v not in cand:
-                continue
-            val = cand[v]
-            lit = v if val else -v
-            # push the solver away from every remaining candidate value: many fall at once
-            s.set_phases([(-u if cand[u] else u) for u in cand])
-            if s.solve(assumptions=[-lit]):
-                m = s.get_model()
-                self._record(m)
-                for u in list(cand):
-                    if (m[u - 1] > 0) != cand[u]:
-                        del cand[u]
-            else:
-                bb[v] = val
-                del cand[v]
-                s.add_clause([lit])
+        bb = backbone_of(s, cand, [], self._record)
+        for v, val in bb.items():
+            s.add_clause([v if val else -v])
         self._backbone = bb
         return bb
 
@@ -177,19 +193,41 @@ class Analyzer:
             return []
         bb = self.backbone()
         out = []
-        s = self.plain
+        todo = []
         for pv, fv, f, p in self._optional_pairs():
             if bb.get(pv) is False or bb.get(fv) is False:
                 continue
             if bb.get(fv) is True:
                 out.append((f, p))
-                continue
-            if (pv, fv) in self._witnessed:
-                continue
-            if s.solve(assumptions=[pv, -fv]):
-                self._record(s.get_model())
-            else:
-                out.append((f, p))
+            elif (pv, fv) not in self._witnessed:
+                todo.append((pv, fv, f, p))
+        if todo:
+            # like the backbone: "can some remaining pair have its parent without its child?"
+            # in one call; UNSAT proves all the remaining pairs false-optional at once
+            s = self.plain
+            top = s.nof_vars()
+            d_of = {}
+            for pv, fv, _, _ in todo:
+                top += 1
+                d_of[(pv, fv)] = top
+                s.add_clause([-top, pv])
+                s.add_clause([-top, -fv])
+            left = list(todo)
+            while left:
+                top += 1
+                act = top
+                s.add_clause([-act] + [d_of[(pv, fv)] for pv, fv, _, _ in left])
+                s.set_phases([d_of[(pv, fv)] for pv, fv, _, _ in left])
+                ok = s.solve(assumptions=[act])
+                m = s.get_model() if ok else None
+                s.add_clause([-act])
+                if not ok:
+                    break
+                self._record(m)
+                left = [x for x in left if not (m[x[0] - 1] > 0 and m[x[1] - 1] < 0)]
+            out.extend((f, p) for _, _, f, p in left)
+        key = {(id(f), id(p)): i for i, (_, _, f, p) in enumerate(self._optional_pairs())}
+        out.sort(key=lambda fp: key[(id(fp[0]), id(fp[1]))])
         return out
 
     def redundant_and_always_false(self, max_constraints: int = 300,
@@ -211,7 +249,10 @@ class Analyzer:
             if not s.solve(assumptions=structure + [e.selector]):
                 always_false.append(e)
                 continue
-            if e.negation is None or e.negation == [False]:
+            if e.negation == [False]:
+                redundant.append(e)  # always holds
+                continue
+            if e.negation is None:
                 continue
             others = [x for x in allsel if x != e.selector]
             neg = [x for x in e.negation if x is not True]
@@ -221,28 +262,40 @@ class Analyzer:
 
     # ------------------------------------------------------------------ explanations
     def explain(self, extra: list[int], deadline: Optional[float] = None,
-                among: Optional[list[int]] = None) -> Optional[Explanation]:
+                among: Optional[list[int]] = None, side_clauses: list[list[int]] = ()) -> Optional[Explanation]:
         """A minimal set of elements that, with the ``extra`` assumption literals, is
-        unsatisfiable; None when the query is satisfiable."""
+        unsatisfiable; None when the query is satisfiable.  (``side_clauses``: clauses the
+        caller added to the selector solver for this query, e.g. a guarded formula.)"""
         s = self.selector_solver
         sels = self._selectors if among is None else among
-        if s.solve(assumptions=sels + extra):
+        if s.solve(assumptions=extra + sels):
             return None
         selset = set(sels)
-        core = [x for x in (s.get_core() or []) if x in selset]
-        core = sorted(set(core), key=lambda x: x)
-        minimal = True
-        i = 0
-        while i < len(core):
-            if deadline is not None and time.monotonic() > deadline:
-                minimal = False
-                break
-            trial = core[:i] + core[i + 1:]
-            if s.solve(assumptions=trial + extra):
-                i += 1
-            else:
-                got = set(s.get_core() or [])
-                core = [x for x in trial if x in got]
+        core = sorted({x for x in (s.get_core() or []) if x in selset})
+        # shrink by deletion in a small solver that holds only the core's elements: every
+        # candidate set is a subset of the core, and a small solver answers "satisfiable"
+        # without assigning the whole model
+        small = Solver(name=SOLVER, bootstrap_with=self.enc.hard)
+        try:
+            for c in side_clauses:
+                small.add_clause(c)
+            for x in core:
+                for c in self._sel_of[x].clauses:
+                    small.add_clause(c + [-x])
+            minimal = True
+            i = 0
+            while i < len(core):
+                if deadline is not None and time.monotonic() > deadline:
+                    minimal = False
+                    break
+                trial = core[:i] + core[i + 1:]
+                if small.solve(assumptions=extra + trial):
+                    i += 1
+                else:
+                    got = set(small.get_core() or [])
+                    core = [x for x in trial if x in got]
+        finally:
+            small.delete()
         return Explanation([self._sel_of[x] for x in core], minimal)
 
     def witness(self) -> Optional[list[int]]:

@@ -49,10 +49,11 @@ def sections(text: str) -> dict[str, str]:
     for i, m in enumerate(heads):
         end = heads[i + 1].start() if i + 1 < len(heads) else len(text)
         body = text[m.start():end]
-        # stop at a following level-1 heading
-        h1 = re.search(r"(?m)^# ", body[1:])
+        # stop at a following level-1 heading or rule
+        nl = body.find("\n")
+        h1 = re.search(r"(?m)^(# |---\s*$)", body[nl + 1:]) if nl >= 0 else None
         if h1:
-            body = body[: h1.start() + 1]
+            body = body[: nl + 1 + h1.start()]
         out[m.group(1)] = body.rstrip() + "\n"
     return out
 

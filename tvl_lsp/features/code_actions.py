@@ -9,7 +9,7 @@ from lsprotocol import types
 
 from ..diagnostics import Fix, TextEdit
 from ..lsp_convert import fix_to_edit, from_lsp_range, spans_overlap, to_lsp_diagnostic
-from .commands import GENERATE
+from .commands import GENERATE, can_create, creation_edit, plan
 
 
 def _same(lsp_diag: types.Diagnostic, d, rng) -> bool:
@@ -34,7 +34,8 @@ def merge_fixes(title: str, fixes: list[Fix]) -> Fix:
 def register(ls) -> None:
     @ls.feature(types.TEXT_DOCUMENT_CODE_ACTION,
                 types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix,
-                                                           types.CodeActionKind.Source]))
+                                                           types.CodeActionKind.Source],
+                                        resolve_provider=True))
     async def code_action(ls, params: types.CodeActionParams):
         uri = params.text_document.uri
         doc = ls.docs.get(uri)
@@ -73,14 +74,31 @@ def register(ls) -> None:
         paired = doc.kind == "tvl" or bool(ls.models_for_launch(doc.path))
         if paired:
             limit = ls.settings.generate_limit
+            resolvable = "edit" in (ls.cap("text_document.code_action.resolve_support.properties", []) or [])
             for mode, title in (("one", "Generate a configuration launch file for one product"),
                                 ("completions", "Generate configuration launch files for every completion "
                                                 f"of the current configuration (up to {limit})"),
                                 ("all", f"Generate configuration launch files for all products (up to {limit})")):
-                actions.append(types.CodeAction(
-                    title=title, kind=types.CodeActionKind.Source,
-                    command=types.Command(title=title, command=GENERATE,
-                                          arguments=[{"uri": uri, "mode": mode, "limit": limit}])))
+                opts = {"uri": uri, "mode": mode, "limit": limit}
+                if resolvable and can_create(ls):
+                    # the products are computed when the user picks the action (codeAction/resolve)
+                    actions.append(types.CodeAction(title=title, kind=types.CodeActionKind.Source,
+                                                    data={"tvl-lsp.generate": opts}))
+                else:
+                    actions.append(types.CodeAction(
+                        title=title, kind=types.CodeActionKind.Source,
+                        command=types.Command(title=title, command=GENERATE, arguments=[opts])))
         if want:
-            actions = [a for a in actions if a.kind and any(str(a.kind).startswith(str(w)) for w in want)]
+            # kinds are str enums: compare their values ('quickfix'), not str() ('CodeActionKind.QuickFix')
+            actions = [a for a in actions if a.kind and any(getattr(a.kind, 'value', a.kind).startswith(getattr(w, 'value', w))
+                                                           for w in want)]
         return actions
+
+    @ls.feature(types.CODE_ACTION_RESOLVE)
+    async def resolve(ls, action: types.CodeAction):
+        data = action.data if isinstance(action.data, dict) else {}
+        opts = data.get("tvl-lsp.generate")
+        if isinstance(opts, dict) and action.edit is None:
+            files, out_dir, truncated = await plan(ls, opts)
+            action.edit = creation_edit(files)
+        return action

@@ -161,13 +161,15 @@ def _refresh_lens(ls) -> None:
             pass
 
 
-def _can_create(ls) -> bool:
+def can_create(ls) -> bool:
+    """Can the client create files through a WorkspaceEdit?  (Resource operations only
+    exist inside ``documentChanges``, so advertising ``create`` implies them.)"""
     ops = ls.cap("workspace.workspace_edit.resource_operations", []) or []
-    return bool(ls.cap("workspace.workspace_edit.document_changes", False)) and any(
-        getattr(o, "value", o) == "create" for o in ops)
+    return any(getattr(o, "value", o) == "create" for o in ops)
 
 
-async def generate_configurations(ls, opts: dict) -> dict:
+async def plan(ls, opts: dict):
+    """(files, out_dir, truncated) for a generation request (nothing written)."""
     path = _path(opts)
     from ..server import file_kind
     mode = opts.get("mode") or "all"
@@ -208,21 +210,29 @@ async def generate_configurations(ls, opts: dict) -> dict:
         files = plan_configurations(products, features, launch, out_dir, roots, package, package_dir)
     except GenerateError as e:
         raise JsonRpcInvalidParams(str(e))
+    return files, out_dir, mode != "one" and len(products) >= limit
+
+
+def creation_edit(files) -> types.WorkspaceEdit:
+    changes: list = []
+    for f in files:
+        uri = path_to_uri(f.path)
+        changes.append(types.CreateFile(uri=uri, options=types.CreateFileOptions(overwrite=True)))
+        changes.append(types.TextDocumentEdit(
+            text_document=types.OptionalVersionedTextDocumentIdentifier(uri=uri, version=None),
+            edits=[types.TextEdit(range=types.Range(start=types.Position(line=0, character=0),
+                                                    end=types.Position(line=0, character=0)),
+                                  new_text=f.text)]))
+    return types.WorkspaceEdit(document_changes=changes)
+
+
+async def generate_configurations(ls, opts: dict) -> dict:
+    files, out_dir, truncated = await plan(ls, opts)
     if not files:
         return {"files": [], "applied": False, "message": "no product matches the current configuration"}
-    applied = False
-    if _can_create(ls):
-        changes: list = []
-        for f in files:
-            uri = path_to_uri(f.path)
-            changes.append(types.CreateFile(uri=uri, options=types.CreateFileOptions(overwrite=True)))
-            changes.append(types.TextDocumentEdit(
-                text_document=types.OptionalVersionedTextDocumentIdentifier(uri=uri, version=None),
-                edits=[types.TextEdit(range=types.Range(start=types.Position(line=0, character=0),
-                                                        end=types.Position(line=0, character=0)),
-                                      new_text=f.text)]))
+    if can_create(ls):
         result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
-            edit=types.WorkspaceEdit(document_changes=changes), label="Generate configuration launch files"))
+            edit=creation_edit(files), label="Generate configuration launch files"))
         applied = bool(getattr(result, "applied", False))
     else:
         os.makedirs(out_dir, exist_ok=True)
@@ -231,5 +241,4 @@ async def generate_configurations(ls, opts: dict) -> dict:
                 fh.write(f.text)
         applied = True
         ls.info(f"tvl-lsp: wrote {len(files)} configuration launch file(s) to {out_dir}")
-    return {"files": [f.path for f in files], "applied": applied, "folder": out_dir,
-            "truncated": mode != "one" and len(products) >= limit}
+    return {"files": [f.path for f in files], "applied": applied, "folder": out_dir, "truncated": truncated}

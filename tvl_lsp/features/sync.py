@@ -43,6 +43,13 @@ def register(ls) -> None:
             except Exception:  # the client said no: fine
                 log.debug("watched files registration refused")
 
+    @ls.feature(types.SHUTDOWN)
+    def shutdown(ls, params=None):
+        for t in list(ls._full_tasks.values()):
+            t.cancel()
+        ls.restart_proc_pool()  # kill the counting process: exit must not wait for a count
+        ls.executor.shutdown(wait=False, cancel_futures=True)
+
     @ls.feature(types.WORKSPACE_DID_CHANGE_CONFIGURATION)
     async def did_change_configuration(ls, params: types.DidChangeConfigurationParams):
         if isinstance(params.settings, dict) and params.settings:

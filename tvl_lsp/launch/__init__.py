@@ -18,7 +18,8 @@ from .packages import find_packages, guess_workspace_root
 from .xml import parse_xml
 
 parse_launch = analyse_launch
+launch_diagnostics = check_launch
 
-__all__ = ["analyse_launch", "check_launch", "load_launch", "parse_launch", "parse_xml", "find_packages",
+__all__ = ["analyse_launch", "check_launch", "launch_diagnostics", "load_launch", "parse_launch", "parse_xml", "find_packages",
            "guess_workspace_root", "ArgDecl", "Attr", "Element", "ErrorFact", "IncludeFact", "LaunchAnalysis",
            "LoadResult", "NodeFact", "ParamFact", "Subst"]

@@ -85,7 +85,11 @@ BUDGET = _reg("launch-analysis-budget", W, "The launch file is too large to anal
 MAX_CASES = 64
 MAX_INCLUDE_DEPTH = 12
 MAX_VISITS = 200_000
+MAX_WALK_DEPTH = 150
 UNRESOLVED = "\x01"  # marks text produced by an unresolved $(find pkg)
+# the value of an arg whose value/default failed to evaluate (the failure is already reported;
+# uses of the arg are not reported again)
+POISON = UNRESOLVED + "?" + UNRESOLVED
 
 NAME_LEGAL = re.compile(r"^[~/A-Za-z][\w/]*$")
 
@@ -148,6 +152,7 @@ def is_legal_name(name: str) -> bool:
 
 def shown(s: str) -> str:
     """A value for messages: unresolved $(find) markers printed back as written."""
+    s = s.replace(POISON, "<error>")
     return re.sub(UNRESOLVED + r"([^" + UNRESOLVED + r"]*)" + UNRESOLVED, r"$(find \1)", s)
 
 
@@ -273,6 +278,7 @@ class Walker:
         self.reported_not_analysable: set = set()
         self.stack: list[str] = []
         self.machines: dict[str, list] = {}
+        self.depth = 0
 
     # ---------------------------------------------------------------- facts
 
@@ -649,7 +655,11 @@ class Walker:
         lel.condition = TRUE
         self.launch_tag(u.launch, lel, sc)
         self.stack = [os.path.abspath(path)]
-        self.recurse(u.launch.children, sc, TRUE, emap)
+        try:
+            self.recurse(u.launch.children, sc, TRUE, emap)
+        except RecursionError:
+            self.facts.append(ErrorFact(BUDGET, W, "the launch file is nested too deeply to analyse completely",
+                                        path, lel.tag_span or lel.span, TRUE))
         return root_el
 
     def launch_tag(self, x: XElement, el: Element, sc: Scope):
@@ -731,6 +741,21 @@ class Walker:
         return True
 
     def recurse(self, children: list[XElement], sc: Scope, guard: Formula, emap):
+        self.depth += 1
+        try:
+            if self.depth > MAX_WALK_DEPTH:
+                if children and not self.budget_hit:
+                    self.budget_hit = True
+                    el = emap[id(children[0])]
+                    self.facts.append(ErrorFact(BUDGET, W, "groups and includes are nested too deeply to analyse; "
+                                                "the deeper elements are not analysed", el.path,
+                                                el.tag_span or el.span, TRUE))
+                return
+            self._recurse(children, sc, guard, emap)
+        finally:
+            self.depth -= 1
+
+    def _recurse(self, children: list[XElement], sc: Scope, guard: Formula, emap):
         for x in children:
             el = emap[id(x)]
             if not self.tick(el):
@@ -786,8 +811,11 @@ class Walker:
             nsc_ = [(c, v) for c, v in nsc if v]
         cp = self.resolve(x, el, "clear_params", sc, guard)
         if cp:
-            self.fact(INVALID_VALUE, "invalid bool value for clear_params", el, self.aspan(el, "clear_params"),
-                      when(cp, lambda v: bool(v) and _attr_bool(v) is None))
+            pre = "Invalid <node> tag: " if tag == "node" else ""
+            for c, v in cp:
+                if v and _attr_bool(v) is None:
+                    self.fact(INVALID_VALUE, f"{pre}invalid bool value for clear_params: {v}", el,
+                              self.aspan(el, "clear_params"), c)
             if tag not in ("node",) and nsc is None:
                 self.fact(INVALID_VALUE, "'ns' attribute must be set in order to use 'clear_params'", el,
                           self.aspan(el, "clear_params"), when(cp, lambda v: _attr_bool(v) is True))
@@ -823,6 +851,11 @@ class Walker:
             self.fact(ARG_VALUE_AND_DEFAULT, "<arg> tag must have one and only one of value/default.", el,
                       el.tag_span, cond)
             return
+        for cs in (value, default):
+            if cs is not None:
+                failed = conj([cond, neg(disj(c for c, _ in cs))])
+                if failed != FALSE and (len(variables(failed)) > 10 or _satisfiable(failed) is not None):
+                    cs.append((failed, POISON))  # reported already: do not cascade
         for nc, name in names:
             vals = None
             if value is not None:
@@ -948,7 +981,7 @@ class Walker:
             elif t == "param":
                 self.param_tag(cx, cel, sc, cond, node_ns=(scopes, name))
             elif t == "rosparam":
-                self.rosparam_tag(cx, cel, sc, cond)
+                self.rosparam_tag(cx, cel, sc, cond, node_ns=(scopes, name))
             elif t == "env":
                 c2 = self.ifunless(cx, cel, sc, cond)
                 if c2 != FALSE:
@@ -985,6 +1018,11 @@ class Walker:
                 node_remaps = [(f, t) for f, t, rc in node_remap_scope.remaps if conj([rc, c]) != FALSE]
                 nf = NodeFact(shown(full), shown(pkg1), shown(typ1), nsn, el, c, el.path, shown(argstr),
                               node_remaps, is_test)
+                for pname, pcases, pc in sc.params:
+                    for vc, pv in pcases:
+                        pcond = conj([c, pc, vc])
+                        if pcond != FALSE:
+                            self.params.append(ParamFact(shown(full + "/" + pname[1:]), shown(pv), el, pcond))
                 if is_test:
                     self.nodes.append(nf)
                     continue
@@ -1072,7 +1110,7 @@ class Walker:
 
     # ---------------------------------------------------------------- <rosparam>
 
-    def rosparam_tag(self, x: XElement, el: Element, sc: Scope, guard: Formula):
+    def rosparam_tag(self, x: XElement, el: Element, sc: Scope, guard: Formula, node_ns=None):
         cond = self.ifunless(x, el, sc, guard)
         if cond == FALSE:
             return
@@ -1103,9 +1141,42 @@ class Walker:
                     elif cmd == "load" and UNRESOLVED not in f:
                         text = self.read(f)
                         if text is not None and len(text) < 2_000_000:
-                            self.check_yaml(text, el, cc, has_param, f)
+                            self.rosparam_values(self.check_yaml(text, el, cc, has_param, f), r, sc, el, cc,
+                                                 node_ns)
             elif cmd == "load":
-                self.check_yaml(x.text, el, c, has_param, None)
+                self.rosparam_values(self.check_yaml(x.text, el, c, has_param, None), r, sc, el, c, node_ns)
+
+    def rosparam_values(self, data, r, sc: Scope, el: Element, c: Formula, node_ns):
+        """Record the params a loaded <rosparam> sets (dicts flattened, as roslaunch)."""
+        if data is None:
+            return
+        ns_c = r["ns"] or [(c, "")]
+        par_c = r["param"] or [(c, "")]
+        bases = []
+        if node_ns is not None:
+            for sc_c, child in node_ns[0]:
+                for nc, nn in node_ns[1]:
+                    bases.append((conj([sc_c, nc]), ns_join(child.ns, nn) + "/"))
+        else:
+            bases.append((TRUE, sc.ns))
+        for bc, base in bases:
+            for c1, nsv in ns_c:
+                for c2, pv in par_c:
+                    cond = conj([c, bc, c1, c2])
+                    if cond == FALSE:
+                        continue
+                    param = ns_join(nsv or "", pv or "")
+                    full = ns_join(base, param) if param else base
+                    self._flatten(full, data, el, cond, 0)
+
+    def _flatten(self, key: str, value, el: Element, cond: Formula, depth: int):
+        if len(self.params) > 100_000 or depth > 50:
+            return
+        if isinstance(value, dict):
+            for k, v in value.items():
+                self._flatten(ns_join(key, str(k)), v, el, cond, depth + 1)
+        else:
+            self.params.append(ParamFact(shown(key.rstrip("/") or "/"), shown(str(value)), el, cond))
 
     def check_yaml(self, text: str, el: Element, c: Formula, has_param: bool, file: Optional[str]):
         pre = "error loading <rosparam> tag: "
@@ -1114,16 +1185,18 @@ class Walker:
         except yaml.YAMLError as e:
             msg = f"file {file} contains invalid YAML" if file else f"Error within YAML block: {str(e)[:200]}"
             if "$(" in text:
-                return  # may be fine once substituted (subst_value)
+                return None  # may be fine once substituted (subst_value)
             self.fact(PARAM_INVALID, pre + msg, el, el.tag_span, c)
-            return
+            return None
         except Exception:
-            return
+            return None
         if data is None:
             data = {}
         if not has_param and not isinstance(data, dict):
             self.fact(PARAM_INVALID, f"{pre}'param' attribute must be set for non-dictionary values", el,
                       el.tag_span, c)
+            return None
+        return data
 
     # ---------------------------------------------------------------- <remap>, <env>, <machine>
 
@@ -1246,7 +1319,8 @@ class Walker:
                     pass_all: bool, emap):
         if pass_all:
             for name, vals in sc.args.items():
-                child.include_names[name] = disj([child.include_names.get(name, FALSE), c])
+                child.include_names[name] = disj([child.include_names.get(name, FALSE),
+                                                  conj([c, disj(vc for vc, _ in vals)])])
                 child.include_args[name] = merge(list(child.include_args.get(name, [])) +
                                                  [(conj([vc, c]), v) for vc, v in vals])
             child.pass_all = True
@@ -1453,7 +1527,7 @@ def _merge_facts(facts: list[ErrorFact]) -> list[ErrorFact]:
     return [f for f in out.values() if len(variables(f.condition)) > 10 or _satisfiable(f.condition) is not None]
 
 
-def _satisfiable(f: Formula, limit: int = 18) -> Optional[dict[str, bool]]:
+def _satisfiable(f: Formula, limit: int = 14) -> Optional[dict[str, bool]]:
     """A satisfying assignment (brute force over the formula's variables), or None."""
     if f == FALSE:
         return None
@@ -1494,10 +1568,16 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
                 text: Optional[str] = None, env: Optional[Mapping[str, str]] = None,
                 packages: Optional[dict[str, str]] = None) -> LoadResult:
     """What roslaunch loads from ``path`` with ``name:=value`` args (one assignment)."""
-    if workspace_root is None and packages is None:
-        workspace_root = guess_workspace_root(path)
-    w = Walker(concrete=True, workspace_root=workspace_root, read_file=read_file,
-               env=os.environ if env is None else env, packages=packages)
+    env = os.environ if env is None else env
+    if packages is None:
+        if workspace_root is None:
+            workspace_root = guess_workspace_root(path)
+        packages = {}
+        # like rospack: ROS_PACKAGE_PATH entries, the workspace first
+        for d in reversed([x for x in env.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if x]):
+            packages.update(find_packages(d))
+        packages.update(find_packages(workspace_root))
+    w = Walker(concrete=True, workspace_root=workspace_root, read_file=read_file, env=env, packages=packages)
     if text is None:
         text = w.read(path)
         if text is None:

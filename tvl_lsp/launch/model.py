@@ -87,18 +87,44 @@ class NodeFact:
 class ErrorFact:
     """A load-time error roslaunch raises (or a warning it prints) when ``condition`` holds.
 
-    Codes (all registered in :mod:`tvl_lsp.diagnostics`):
+    ``condition`` is a formula over the free (feature) args; it already includes the
+    element's presence condition ("reached"), so the fact fires exactly for the assignments
+    under which roslaunch, processing the file in document order, gets to this check and
+    fails it (an earlier error would stop roslaunch first: facts do not model that).
+    Facts no assignment can trigger are dropped when the formula has few variables.
 
-    - ``undefined-arg``: ``$(arg X)`` evaluated where X is not declared in scope (roslaunch:
-      "requires the 'X' arg to be set" / "arg 'X' is not defined");
-    - ``unset-arg``: ``$(arg X)`` where X is declared without value/default and nothing sets it;
-    - ``duplicate-arg``: an ``<arg>`` declared twice in the same scope;
-    - ``arg-already-set``: ``<arg value=...>`` for an arg that already has a value;
+    Codes (all registered in :data:`tvl_lsp.diagnostics.CODES`, area "launch"):
+
+    - ``undefined-arg``: ``$(arg X)`` evaluated where X is not declared in scope
+      (reached and not declared; roslaunch: "requires the 'X' arg to be set" or, inside an
+      ``<arg>``, "arg 'X' is not defined");
+    - ``unset-arg``: ``$(arg X)`` where X is declared without value/default and nothing
+      sets it (a required arg used but never set);
+    - ``duplicate-arg``: an ``<arg>`` declared twice in the same scope ("has already been
+      declared"); the paired if/unless pattern never triggers it;
+    - ``arg-already-set``: ``<arg value=...>`` for an arg that already has a value
+      ("cannot override arg");
+    - ``arg-value-and-default``: both value and default;
     - ``invalid-condition``: if/unless evaluates to something other than true/false/1/0;
-    - ``duplicate-node``: two nodes with the same resolved name both loaded (c1 and c2);
-    - ``unused-include-arg``: an arg passed to an include that the included file never declares;
+    - ``if-and-unless``: both on one tag;
+    - ``duplicate-node``: two nodes with the same resolved name both loaded (c1 and c2;
+      ``related`` points at the other node);
+    - ``unused-include-arg``: an arg passed to an include that the included file never
+      declares ("unused args [x] for include of [f]");
     - ``include-arg-no-value``: an ``<arg>`` inside ``<include>`` without value/default;
-    - the rest are the attribute/tag checks of roslaunch's XmlLoader (see ``CODES``).
+    - ``include-not-found`` / ``include-invalid`` / ``include-cycle`` / ``include-too-deep``;
+    - ``missing-attribute``, ``invalid-attribute-value``, ``node-name-namespace``,
+      ``empty-ns``, ``respawn-and-required``, ``param-value-count``, ``invalid-param``,
+      ``command-not-found``, ``file-not-found``, ``invalid-remap``, ``invalid-env``,
+      ``invalid-machine``, ``invalid-test``: the checks of roslaunch's XmlLoader, with its
+      wording;
+    - ``substitution-syntax``, ``unknown-substitution``, ``substitution-arity``,
+      ``eval-error``, ``env-not-set``: ``$(...)`` errors;
+    - ``package-not-found``: only in the concrete loader (the symbolic analysis marks an
+      include of a package outside the workspace ``unresolved`` instead);
+    - ``illegal-node-name``, ``launch-if-unless`` (warnings; the latter is an error when
+      roslaunch would crash), ``condition-not-analysable`` (information, condition TRUE),
+      ``launch-analysis-budget`` (warning).
     """
     code: str
     severity: Severity

@@ -25,7 +25,7 @@ XML_TOO_DEEP = register("launch-too-deep", Severity.ERROR,
                         "Elements are nested too deeply to analyse", "launch")
 
 MAX_TEXT = 20_000_000      # characters
-MAX_DEPTH = 200            # element nesting analysed
+MAX_DEPTH = 100            # element nesting analysed
 
 
 @dataclass
@@ -246,12 +246,11 @@ def parse_xml(text: str, path: str) -> XmlDoc:
         data = re.sub(rb"encoding\s*=\s*[\"'][^\"']*[\"']", b'encoding="utf-8"', data, count=1)
     root_el = None
     try:
+        etree.clear_error_log()
         root_el = etree.fromstring(data, _parser(False))
     except etree.XMLSyntaxError as e:
-        errs = [x for x in e.error_log] or []
-        first = errs[0] if errs else None
-        line, col = (first.line, first.column) if first else (e.position or (1, 1))
-        msg = first.message if first else str(e)
+        line, col = e.position or (e.lineno or 1, 1)
+        msg = (e.msg or str(e)).split(", line ")[0]
         off = _lxml_pos(index, line, col)
         diags.append(Diagnostic(XML_SYNTAX, Severity.ERROR, path, index.span(off, off + 1 if off < len(text) else off),
                                 f"Invalid roslaunch XML syntax: {msg}"))

@@ -698,6 +698,8 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
     extra: list[Tok] = []
     last_err = None
     last_drop = None
+    patched: set[int] = set()
+    toks = list(toks)
     end_pos = toks[-1].end if toks else 0
     ctx = _Ctx(smap, [])
     with _LOCK:
@@ -740,11 +742,25 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                     what = (f"'{tok.value}'" if tok.type not in ("ID", "INT", "REAL", "STRING")
                             else f"{_disp(tok.type)} '{tok.value}'")
                     msg = f"unexpected {what}; expected {_expected(e.expected)}"
+                if (tok.type in ("ID", "OPT", "SHARED") and k > 0 and toks[k - 1].type in ("ID", "RBRACE")
+                        and ("COMMA" in e.expected or "SEMI" in e.expected) and k not in patched):
+                    # a missing separator: report it and read it as if it were there
+                    sep = "COMMA" if "COMMA" in e.expected else "SEMI"
+                    patched.add(k)
+                    issues.append(SyntaxIssue("syntax-error", tok.start, tok.end,
+                                              f"missing '{',' if sep == 'COMMA' else ';'}' before '{tok.value}'"))
+                    toks.insert(k, Tok(sep, "", tok.start, tok.start))
+                    depth.insert(k, depth[k])
+                    alive.insert(k, True)
+                    patched = {i + 1 if i >= k else i for i in patched}
+                    last_err = None
+                    continue
                 # a '}' right after what we dropped is an artefact of the drop (e.g. a group left
                 # empty): drop the enclosing construct instead, without a second report
                 cascade = (tok.type == "RBRACE" and last_drop is not None and last_drop < k
                            and not any(alive[last_drop + 1:k]))
-                if last_err != k and not cascade:
+                synthetic = tok.value == "" and tok.type in ("COMMA", "SEMI")
+                if last_err != k and not cascade and not synthetic:
                     issues.append(SyntaxIssue("syntax-error", tok.start, tok.end, msg))
                 if tok.type == "RBRACE":
                     a, b = _block_range(toks, depth, k)

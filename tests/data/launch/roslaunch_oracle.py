@@ -10,7 +10,12 @@ import os
 import sys
 
 
+_ENV0 = dict(os.environ)
+
+
 def run(job):
+    os.environ.clear()
+    os.environ.update(_ENV0)
     os.environ["ROS_PACKAGE_PATH"] = job.get("package_path", "")
     import itertools
     import rospkg
@@ -34,7 +39,7 @@ def run(job):
     try:
         loader.load(job["file"], cfg, argv=argv, verbose=False)
         nodes = sorted(n.namespace + n.name if n.name else "" for n in cfg.nodes)
-        return {"ok": True, "nodes": nodes, "warnings": list(cfg.config_errors)}
+        return {"ok": True, "nodes": nodes, "params": sorted(cfg.params), "warnings": list(cfg.config_errors)}
     except BaseException as e:  # noqa: roslaunch raises all sorts of things
         return {"ok": False, "error": type(e).__name__, "message": str(e)[:500]}
     finally:

@@ -1,0 +1,97 @@
+"""Anomaly diagnostics on TVL text: codes, ranges, explanations."""
+
+from pathlib import Path
+
+from tvl_lsp.analysis import formula as fm
+from tvl_lsp.analysis.engine import ModelAnalysis
+from tvl_lsp.tvl import parse_model
+
+SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+
+
+def analysis(text):
+    res = parse_model(text, "/tmp/a.tvl")
+    assert not res.errors, [d.message for d in res.errors]
+    return ModelAnalysis(res.model)
+
+
+def by_code(diags, code):
+    return [d for d in diags if d.code == code]
+
+
+def line(text, d):
+    return text.splitlines()[d.span.start.line]
+
+
+def test_listing_4_3_dead_J_explained():
+    p = SHARED / "corpus" / "thesis" / "models" / "example_4_3.tvl"
+    text = p.read_text()
+    a = ModelAnalysis(parse_model(text, str(p)).model)
+    dead = by_code(a.anomalies(), "dead-feature")
+    assert [d.data["feature"] for d in dead] == ["J"]
+    d = dead[0]
+    assert text.splitlines()[d.span.start.line][d.span.start.col:d.span.end.col] == "J"
+    labels = [r.message for r in d.related]
+    # J is excluded by C || D, and B (always there) has C or D
+    assert any("C || D -> !J" in m for m in labels)
+    assert any("oneOf" in m for m in labels) and any("B is mandatory" in m for m in labels)
+    assert all(r.path == str(p) for r in d.related)
+
+
+def test_false_optional_and_redundant_and_trivial():
+    text = """root R {
+  group allOf { opt A, opt B, opt C }
+  R -> A;
+  A -> B;
+  R -> B;
+  C || !C;
+}"""
+    a = analysis(text)
+    diags = a.anomalies()
+    fo = by_code(diags, "false-optional")
+    assert sorted(d.data["feature"] for d in fo) == ["A", "B"]
+    red = by_code(diags, "redundant-constraint")
+    lines = sorted(line(text, d).strip() for d in red)
+    # each of A -> B and R -> B is implied by the others (B always holds); C || !C always holds
+    assert lines == ["A -> B;", "C || !C;", "R -> B;"]
+    for d in red:
+        if "always holds" not in d.message:
+            assert d.related
+
+
+def test_void_model_and_always_false_constraint():
+    text = """root R {
+  group oneOf { A, B }
+  A && B;
+}"""
+    a = analysis(text)
+    diags = a.anomalies()
+    void = by_code(diags, "void-model")
+    assert len(void) == 1 and a.is_void()
+    assert {r.message.split(":")[0] for r in void[0].related} >= {"constraint `A && B;`"}
+    af = by_code(diags, "always-false-constraint")
+    assert len(af) == 1 and line(text, af[0]).strip() == "A && B;"
+    assert not by_code(diags, "dead-feature")
+    assert a.count() == 0
+    assert a.find_product() is None
+    assert list(a.enumerate()) == []
+
+
+def test_explain_a_partial_configuration_and_formula():
+    p = SHARED / "corpus" / "thesis" / "ws" / "src" / "turtlebot" / "launch" / "turtlebot.tvl"
+    a = ModelAnalysis(parse_model(p.read_text(), str(p)).model)
+    ex = a.explain(include=["Logitech", "Ps3"])
+    assert ex is not None and [e.kind for e in ex] == ["constraint"]
+    assert a.explain(include=["Logitech"]) is None
+    ex = a.explain(formula=fm.conj([fm.var("Kobuki"), fm.neg(fm.var("Base"))]))
+    assert ex is not None and {e.kind for e in ex} <= {"parent-link", "root", "mandatory"}
+    w = a.find_product(formula=fm.disj([fm.var("Bumper2pc"), fm.var("Xbox360")]))
+    assert w["Xbox360"] and sum(w.values()) == 3  # TurtleBot, Teleop, Xbox360
+
+
+def test_time_budget_zero_still_reports_anomalies_without_explanations():
+    text = "root R { group allOf { opt A, opt B } A -> B; A -> !B; }"
+    a = analysis(text)
+    diags = a.anomalies(time_budget=0)
+    dead = by_code(diags, "dead-feature")
+    assert len(dead) == 1 and "time budget" in dead[0].message
