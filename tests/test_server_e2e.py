@@ -11,6 +11,8 @@ from pytest_lsp import LanguageClient
 from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, diagnostics,
                             install_client_handlers, open_doc, position_of, start)
 
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
 
 @pytest_lsp.fixture(config=CONFIG, params=PROFILES, scope="module")
 async def client(lsp_client: LanguageClient, request, tmp_path_factory):

@@ -25,7 +25,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable, Mapping, Optional, Sequence
 
-from xml.sax.saxutils import quoteattr
+from xml.sax.saxutils import escape
+
+
+def quoteattr(value: str) -> str:
+    """A double-quoted XML attribute value."""
+    return '"' + escape(value, {'"': "&quot;"}) + '"'
 
 
 @dataclass(frozen=True)
@@ -83,9 +88,12 @@ def normalise_product(product, features: Sequence[str]) -> dict[str, bool]:
     return {f: (f in selected or f in short) for f in features}
 
 
-def configuration_name(product: Mapping[str, bool], features: Sequence[str], prefix: str = "config") -> str:
-    """Deterministic file name for a product: the selected features, in ``features`` order."""
-    on = [f for f in features if product.get(f)]
+def configuration_name(product: Mapping[str, bool], features: Sequence[str], prefix: str = "config",
+                       omit: Iterable[str] = ()) -> str:
+    """Deterministic file name for a product: the selected features, in ``features`` order
+    (leaving out ``omit``, e.g. the root, which every product selects)."""
+    skip = set(omit)
+    on = [f for f in features if product.get(f) and f not in skip]
     body = "-".join(re.sub(r"[^A-Za-z0-9_]+", "_", f).lower() for f in on) or "none"
     if len(body) > 80:
         digest = hashlib.sha1("|".join(on).encode()).hexdigest()[:10]
@@ -160,7 +168,8 @@ def resolve_folder(folder: Optional[str], generic_path: str, roots: Sequence[str
 def plan_configurations(products: Iterable, features: Sequence[str], generic_path: str, out_dir: str,
                         roots: Sequence[str] = (), package: Optional[str] = None,
                         package_dir: Optional[str] = None, prefix: Optional[str] = None,
-                        indent: str = "  ", limit: Optional[int] = None) -> list[GeneratedFile]:
+                        indent: str = "  ", limit: Optional[int] = None,
+                        omit: Iterable[str] = ()) -> list[GeneratedFile]:
     """One :class:`GeneratedFile` per product (at most ``limit``), sorted by path."""
     if package is None and package_dir is None:
         package, package_dir = find_package(generic_path, stop_at=roots)
@@ -171,7 +180,7 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
         if limit is not None and i >= limit:
             break
         p = normalise_product(prod, features)
-        path = str(Path(out_dir) / configuration_name(p, features, prefix))
+        path = str(Path(out_dir) / configuration_name(p, features, prefix, omit))
         if roots and not inside(path, roots):
             raise GenerateError(f"{path} would be outside the workspace")
         files[path] = GeneratedFile(path, render_configuration(p, features, target, indent), p)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import asyncio
 import concurrent.futures as cf
+from concurrent.futures.process import BrokenProcessPool
 import hashlib
 import logging
 import os
@@ -160,6 +161,8 @@ class TvlLanguageServer(LanguageServer):
         self.roots: list[str] = []
         self.executor = cf.ThreadPoolExecutor(max_workers=2, thread_name_prefix="tvl-check")
         self._proc_pool: Optional[cf.ProcessPoolExecutor] = None
+        self._check_pool: Optional[cf.ProcessPoolExecutor] = None
+        self._check_running: dict[str, tuple] = {}
         self._proc_lock = threading.Lock()
         # per-uri scheduling
         self._generation: dict[str, int] = {}
@@ -167,7 +170,6 @@ class TvlLanguageServer(LanguageServer):
         self._syntax_dirty: set[str] = set()
         self._full_tasks: dict[str, asyncio.Task] = {}
         self.results: dict[str, CheckResult] = {}
-        self._full_waiters: dict[str, list[asyncio.Future]] = {}
         self.published: dict[str, list[types.Diagnostic]] = {}
         # caches keyed by content
         self.cache: dict[tuple, Any] = {}
@@ -443,23 +445,31 @@ class TvlLanguageServer(LanguageServer):
                 self._proc_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"))
             return self._proc_pool
 
+    @property
+    def check_pool(self) -> cf.ProcessPoolExecutor:
+        with self._proc_lock:
+            if self._check_pool is None:
+                import multiprocessing as mp
+                self._check_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"))
+            return self._check_pool
+
+    def restart_check_pool(self) -> None:
+        with self._proc_lock:
+            pool, self._check_pool = self._check_pool, None
+        _kill_pool(pool)
+
     def warm_up(self) -> None:
-        """Start the counting process now, so the first count does not pay for it."""
+        """Start the worker processes now, so the first check / count does not pay for it."""
         try:
             self.proc_pool.submit(_warm)
+            self.check_pool.submit(_warm)
         except Exception:
             pass
 
     def restart_proc_pool(self) -> None:
         with self._proc_lock:
             pool, self._proc_pool = self._proc_pool, None
-        if pool is not None:
-            try:
-                for p in list(getattr(pool, "_processes", {}).values()):
-                    p.kill()
-            except Exception:
-                pass
-            pool.shutdown(wait=False, cancel_futures=True)
+        _kill_pool(pool)
 
     # ------------------------------------------------------------ scheduling
     def schedule(self, uri: str, syntax: bool = True) -> None:
@@ -516,20 +526,34 @@ class TvlLanguageServer(LanguageServer):
             if doc is None:
                 return
             version, text, path, kind = doc.version, doc.text, doc.path, doc.kind
-            reader = self.snapshot_reader()
             budget = self.settings.time_budget
+            texts = {d.path: d.text for d in self.docs.values()}
+            running = self._check_running.get(uri)
+            if running is not None and not running[0].done():
+                if time.monotonic() - running[1] > 1.0:
+                    # stale work on an old text: stop it rather than queue behind it
+                    self.restart_check_pool()
+                else:
+                    try:
+                        await asyncio.wait_for(asyncio.shield(asyncio.wrap_future(running[0])), 1.0)
+                    except Exception:
+                        pass
+                    if self._generation.get(uri) != generation:
+                        return
             try:
-                ws = self.workspace_model(path)
-            except Exception:
-                log.exception("workspace discovery failed")
-                ws = None
-            try:
-                diags = await asyncio.wait_for(
-                    self.run_in_thread(checks.full_check, kind, path, text, reader,
-                                       self.roots_for(path), budget, ws),
-                    timeout=budget + 5)
+                cfut = self.check_pool.submit(checks.full_check_worker, kind, path, text, texts,
+                                              self.roots_for(path), budget, self.epoch)
+                self._check_running[uri] = (cfut, time.monotonic())
+                diags = await asyncio.wait_for(asyncio.wrap_future(cfut), timeout=budget + 10)
             except asyncio.TimeoutError:
                 log.warning("check of %s ran out of its time budget", path)
+                self.restart_check_pool()
+                return
+            except asyncio.CancelledError:
+                raise
+            except BrokenProcessPool:
+                log.warning("the check process died; restarting it")
+                self.restart_check_pool()
                 return
             except Exception:
                 log.exception("check of %s failed", path)
@@ -539,23 +563,23 @@ class TvlLanguageServer(LanguageServer):
                 return  # stale: the text changed meanwhile
             self.results[uri] = CheckResult(version, "full", diags)
             self.publish(uri)
-            for fut in self._full_waiters.pop(uri, []):
-                if not fut.done():
-                    fut.set_result(None)
         except asyncio.CancelledError:
             pass
 
     async def wait_full(self, uri: str, timeout: float) -> Optional[CheckResult]:
-        doc = self.docs.get(uri)
-        res = self.results.get(uri)
-        if doc is not None and res and res.version == doc.version and res.phase == "full":
-            return res
-        fut = asyncio.get_running_loop().create_future()
-        self._full_waiters.setdefault(uri, []).append(fut)
-        try:
-            await asyncio.wait_for(fut, timeout)
-        except asyncio.TimeoutError:
-            pass
+        """The latest results of ``uri`` once no check of it is pending (or time runs out)."""
+        loop = asyncio.get_running_loop()
+        end = loop.time() + timeout
+        while True:
+            task = self._full_tasks.get(uri)
+            left = end - loop.time()
+            if task is None or task.done() or left <= 0:
+                break
+            try:
+                await asyncio.wait_for(asyncio.shield(task), left)
+            except (asyncio.TimeoutError, asyncio.CancelledError):
+                if loop.time() >= end:
+                    break
         return self.results.get(uri)
 
     def recheck_dependents(self, path: str) -> None:
@@ -638,6 +662,20 @@ class TvlLanguageServer(LanguageServer):
             self.window_show_message(types.ShowMessageParams(type=types.MessageType.Warning, message=msg))
         except Exception:
             pass
+
+
+def _kill_pool(pool) -> None:
+    if pool is None:
+        return
+    try:
+        for p in list((getattr(pool, "_processes", None) or {}).values()):
+            p.kill()
+    except Exception:
+        pass
+    try:
+        pool.shutdown(wait=False, cancel_futures=True)
+    except Exception:
+        pass
 
 
 def _warm() -> None:

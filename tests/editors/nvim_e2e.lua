@@ -35,6 +35,14 @@ local REMOVE_ARG = 'Map'
 local MISSING_CODE = 'missing-arg'
 local EXPECTED_INSERTED_LINE = '  <arg name="Map"/>'
 local EXPECTED_AFTER_LINE = '  <arg name="Robot_localization"/>'
+-- The configurator and the generation, through editors/nvim/lua/tvl_lsp (the :Tvl* commands):
+-- include this feature and expect this many remaining products, then reset;
+local CONFIG_FEATURE, CONFIG_REMAINING, CONFIG_TOTAL = 'Gazebo', '1152', '2304'
+-- generate one configuration launch file from the launch file and expect it on disk, in
+-- GENERATE_FOLDER (relative to the launch file's package folder), with these lines.
+local GENERATE_MODE, GENERATE_FILES = 'one', 1
+local GENERATE_FOLDER = 'src/lizi/configs'
+local GENERATE_MUST_CONTAIN = { '<include file="$(find lizi)/launch/generic.launch">', '<arg name="Lizi" value="true"/>' }
 -- Timing
 local START_TIMEOUT_MS = 30000
 local DIAG_TIMEOUT_MS = 60000
@@ -320,4 +328,39 @@ step(function()
   end)
   result.model_diagnostics = diag_summary(mbuf)
   check('model diagnostics', #result.model_diagnostics == MODEL_EXPECTED_DIAGNOSTICS, result.model_diagnostics)
+
+  -- 8. the configurator and the generation (the functions behind :TvlInclude, :TvlGenerate, ...)
+  check(':Tvl* user commands defined', vim.fn.exists(':TvlInclude') == 2 and vim.fn.exists(':TvlGenerate') == 2)
+  local tvl = require('tvl_lsp')
+  local function call(fn, ...)
+    local done, res, rerr = false, nil, nil
+    local args = { ... }
+    table.insert(args, function(r, e)
+      done, res, rerr = true, r, e
+    end)
+    fn(unpack(args))
+    vim.wait(REQUEST_TIMEOUT_MS, function()
+      return done
+    end, 20)
+    return res, rerr
+  end
+  local r, e = call(tvl.include, CONFIG_FEATURE)
+  result.include = r or e
+  check('include ' .. CONFIG_FEATURE .. ' leaves ' .. CONFIG_REMAINING .. ' products',
+    r ~= nil and tostring(r.remainingText or r.remaining) == CONFIG_REMAINING, r or e)
+  r, e = call(tvl.count)
+  check('count after the include', r ~= nil and tostring(r.remainingText or r.remaining) == CONFIG_REMAINING
+    and tostring(r.totalText or r.total) == CONFIG_TOTAL, r or e)
+  r, e = call(tvl.reset, '')
+  check('reset restores every product', r ~= nil and tostring(r.remainingText or r.remaining) == CONFIG_TOTAL, r or e)
+  vim.cmd.buffer(buf) -- generate from the launch file
+  r, e = call(tvl.generate, GENERATE_MODE, {})
+  result.generate = r or e
+  local files = r and r.files or {}
+  check('generated ' .. GENERATE_FILES .. ' file(s)', #files == GENERATE_FILES, r or e)
+  local f = files[1] and (files[1]:match('^file://') and vim.uri_to_fname(files[1]) or files[1])
+  local content = f and table.concat(vim.fn.readfile(f), '\n') or ''
+  result.generated_file = { path = f, content = content }
+  check('generated into ' .. GENERATE_FOLDER, f ~= nil and vim.startswith(vim.fs.normalize(f), vim.fs.joinpath(ws, GENERATE_FOLDER) .. '/'), f)
+  check('generated file written with its include and args', contains_all(content, GENERATE_MUST_CONTAIN), content)
 end)

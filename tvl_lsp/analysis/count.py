@@ -157,6 +157,72 @@ def _count_subprocess(nvars, clauses, projection, timeout: Optional[float], canc
     return int(text.split()[-1])
 
 
+def simplify(nvars: int, clauses: Sequence[Sequence[int]], projection: Optional[Sequence[int]]):
+    """Unit propagation, then renumbering of what is left to 1..k.
+
+    Returns (k, clauses, projection or None for all) with the same projected count, or None
+    when propagation finds a conflict (count 0).  Fixed variables are determined, so they
+    leave both the clauses and the projection; a projected variable that no clause mentions
+    any more stays (it doubles the count)."""
+    value: dict[int, bool] = {}
+    occ: dict[int, list[int]] = {}
+    cls = [list(c) for c in clauses]
+    queue = []
+    for i, c in enumerate(cls):
+        if not c:
+            return None
+        if len(c) == 1:
+            queue.append(c[0])
+        for x in c:
+            occ.setdefault(x, []).append(i)
+    sat = [False] * len(cls)
+    while queue:
+        x = queue.pop()
+        v = abs(x)
+        if v in value:
+            if value[v] != (x > 0):
+                return None
+            continue
+        value[v] = x > 0
+        for i in occ.get(x, ()):
+            sat[i] = True
+        for i in occ.get(-x, ()):
+            if sat[i]:
+                continue
+            rest = []
+            for y in cls[i]:
+                w = value.get(abs(y))
+                if w is None:
+                    rest.append(y)
+                elif w == (y > 0):
+                    sat[i] = True
+                    break
+            if sat[i]:
+                continue
+            if not rest:
+                return None
+            cls[i] = rest
+            if len(rest) == 1:
+                queue.append(rest[0])
+    out = []
+    used: set[int] = set()
+    for i, c in enumerate(cls):
+        if sat[i]:
+            continue
+        c = [y for y in c if abs(y) not in value]  # (every literal left is unassigned or false)
+        if not c:
+            return None
+        out.append(c)
+        used.update(abs(y) for y in c)
+    proj = set(range(1, nvars + 1)) if projection is None else set(projection)
+    proj -= set(value)
+    keep = sorted(used | proj)
+    ren = {v: i + 1 for i, v in enumerate(keep)}
+    out = [[ren[abs(y)] if y > 0 else -ren[abs(y)] for y in c] for c in out]
+    newproj = sorted(ren[v] for v in proj)
+    return len(keep), out, (None if len(newproj) == len(keep) else newproj)
+
+
 def count_cnf(nvars: int, clauses: Sequence[Sequence[int]], projection: Optional[Sequence[int]] = None,
               timeout: Optional[float] = None, cancel: CancelLike = None, key: Optional[str] = None,
               inprocess: Optional[bool] = None) -> int:
@@ -169,6 +235,17 @@ def count_cnf(nvars: int, clauses: Sequence[Sequence[int]], projection: Optional
             return got
     if _is_cancelled(cancel):
         raise CountCancelled()
+    simple = simplify(nvars, clauses, projection)
+    if simple is None:
+        if key is not None:
+            CACHE.put(key, 0)
+        return 0
+    nvars, clauses, projection = simple
+    if nvars == 0:
+        n = 1
+        if key is not None:
+            CACHE.put(key, n)
+        return n
     if inprocess is None:
         inprocess = nvars <= INPROCESS_MAX_VARS and len(clauses) <= INPROCESS_MAX_CLAUSES
     if inprocess:

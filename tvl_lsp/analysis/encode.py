@@ -349,9 +349,13 @@ class Encoding:
             n_opt = len(kids) - len(mand)
             kw = g.keyword_span if g.keyword_span != ZERO_SPAN else g.span
             gname = g.kind if g.kind != "card" else f"[{g.lo}..{'*' if g.hi is None else g.hi}]"
+            def names(cs) -> str:
+                ns = [c.feature.name for c in cs]
+                return ", ".join(ns) if len(ns) <= 5 else ", ".join(ns[:4]) + f" … ({len(ns)} children)"
+
             if g.hi is not None and g.hi < len(kids):
                 cls = [[-pv] + c for c in self.b.at_most(lits, g.hi)]
-                self._add(Element("group", f"group {gname} of {p.name}: at most {g.hi} of its children",
+                self._add(Element("group", f"group {gname} of {p.name}: at most {g.hi} of {names(kids)}",
                                   g.path, kw, g, cls))
             need = g.lo - n_opt
             if need <= 0:
@@ -366,8 +370,8 @@ class Encoding:
                                       [[-pv, v[c.feature]]], negation=[pv, -v[c.feature]]))
             else:
                 cls = [[-pv] + c for c in self.b.at_least([v[c.feature] for c in mand], need)]
-                self._add(Element("group-lower", f"group {gname} of {p.name}: at least {need} of its "
-                                  f"mandatory children", g.path, kw, g, cls))
+                self._add(Element("group-lower", f"group {gname} of {p.name}: at least {need} of "
+                                  f"{names(mand)}", g.path, kw, g, cls))
 
     def _encode_constraints(self) -> None:
         v = self.var_of_feature

@@ -275,25 +275,40 @@ class Analyzer:
         # shrink by deletion in a small solver that holds only the core's elements: every
         # candidate set is a subset of the core, and a small solver answers "satisfiable"
         # without assigning the whole model
-        small = Solver(name=SOLVER, bootstrap_with=self.enc.hard)
+        # (variables renumbered 1..k: a solver assigns every variable it knows of)
+        ren: dict[int, int] = {}
+
+        def r(x: int) -> int:
+            y = ren.get(abs(x))
+            if y is None:
+                y = ren[abs(x)] = len(ren) + 1
+            return y if x > 0 else -y
+
+        small = Solver(name=SOLVER)
         try:
-            for c in side_clauses:
-                small.add_clause(c)
+            for c in list(self.enc.hard) + list(side_clauses):
+                small.add_clause([r(x) for x in c])
             for x in core:
                 for c in self._sel_of[x].clauses:
-                    small.add_clause(c + [-x])
+                    small.add_clause([r(y) for y in c] + [-r(x)])
+            extra_r = [r(x) for x in extra]
+            back = {}
+            for x in core:
+                back[r(x)] = x
             minimal = True
             i = 0
-            while i < len(core):
+            cur = [r(x) for x in core]
+            while i < len(cur):
                 if deadline is not None and time.monotonic() > deadline:
                     minimal = False
                     break
-                trial = core[:i] + core[i + 1:]
-                if small.solve(assumptions=extra + trial):
+                trial = cur[:i] + cur[i + 1:]
+                if small.solve(assumptions=extra_r + trial):
                     i += 1
                 else:
                     got = set(small.get_core() or [])
-                    core = [x for x in trial if x in got]
+                    cur = [x for x in trial if x in got]
+            core = [back[x] for x in cur]
         finally:
             small.delete()
         return Explanation([self._sel_of[x] for x in core], minimal)

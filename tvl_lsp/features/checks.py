@@ -77,3 +77,36 @@ def _norm(p: str) -> str:
 def _kind(path: str) -> Optional[str]:
     from ..server import file_kind
     return file_kind(path)
+
+
+# ------------------------------------------------------------------ worker process side
+
+class SnapshotReader:
+    """A picklable reader: the open documents' texts as they were, then the disk."""
+
+    def __init__(self, texts: dict[str, str]):
+        self.texts = texts
+
+    def __call__(self, path: str) -> Optional[str]:
+        p = str(Path(path))
+        if p in self.texts:
+            return self.texts[p]
+        try:
+            with open(p, encoding="utf-8", errors="replace") as fh:
+                return fh.read()
+        except OSError:
+            return None
+
+
+_LAST_EPOCH: list = [None]
+
+
+def full_check_worker(kind: str, path: str, text: str, texts: dict[str, str], roots: Sequence[str],
+                      budget: float, epoch: int) -> list[Diagnostic]:
+    """:func:`full_check` in the server's check process (solver calls hold the GIL, so
+    they must not run in the process that answers hovers)."""
+    from .. import check
+    if _LAST_EPOCH[0] != epoch:
+        check.invalidate_workspaces()
+        _LAST_EPOCH[0] = epoch
+    return full_check(kind, path, text, SnapshotReader(texts), roots, budget, None)

@@ -207,7 +207,8 @@ async def plan(ls, opts: dict):
     products = await _in_worker(ls, F.generation_products, model, sources, decisions, mode, limit,
                                 title="Generating configurations")
     try:
-        files = plan_configurations(products, features, launch, out_dir, roots, package, package_dir)
+        files = plan_configurations(products, features, launch, out_dir, roots, package, package_dir,
+                                    omit=[m.root.name] if m.root else ())
     except GenerateError as e:
         raise JsonRpcInvalidParams(str(e))
     return files, out_dir, mode != "one" and len(products) >= limit

@@ -47,7 +47,8 @@ def register(ls) -> None:
     def shutdown(ls, params=None):
         for t in list(ls._full_tasks.values()):
             t.cancel()
-        ls.restart_proc_pool()  # kill the counting process: exit must not wait for a count
+        ls.restart_proc_pool()  # kill the worker processes: exit must not wait for a count
+        ls.restart_check_pool()
         ls.executor.shutdown(wait=False, cancel_futures=True)
 
     @ls.feature(types.WORKSPACE_DID_CHANGE_CONFIGURATION)

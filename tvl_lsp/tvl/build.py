@@ -922,13 +922,18 @@ class ModelBuilder:
         return b
 
     def enum_values_named(self, name: str) -> list[m.EnumValue]:
-        out = []
-        for td in self.types.values():
-            out.extend(v for v in td.enum_values if v.name == name)
-        for f in self.model.features:
-            for a in f.attributes:
-                out.extend(v for v in a.enum_values if v.name == name)
-        return out
+        idx = getattr(self, "_enum_index", None)
+        if idx is None:  # built once, after phase 1 declared every enum value
+            idx = {}
+            for td in self.types.values():
+                for v in td.enum_values:
+                    idx.setdefault(v.name, []).append(v)
+            for f in self.model.features:
+                for a in f.attributes:
+                    for v in a.enum_values:
+                        idx.setdefault(v.name, []).append(v)
+            self._enum_index = idx
+        return idx.get(name, [])
 
     # typing ------------------------------------------------------------------
     BOOL_OPS = {"&&", "||", "->", "<-", "<->", "requires", "excludes"}

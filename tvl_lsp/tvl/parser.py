@@ -215,6 +215,33 @@ class _Builder(Transformer):
     def _d(x) -> int:
         return getattr(x, "_d", 0)
 
+    # -- lists (left-recursive rules, appended in place)
+    @staticmethod
+    def _list(c):
+        if len(c) == 1 or (len(c) == 2 and isinstance(c[0], Tok)):  # first element (cond_list: COMMA x)
+            return [c[-1]]
+        lst = c[0]
+        lst.append(c[-1])
+        return lst
+
+    def item_list(self, c):
+        return self._list(c)
+
+    def field_list(self, c):
+        return self._list(c)
+
+    def body_list(self, c):
+        return self._list(c)
+
+    def ref_list(self, c):
+        return self._list(c)
+
+    def data_list(self, c):
+        return self._list(c)
+
+    def cond_list(self, c):
+        return self._list(c)
+
     # -- expressions
     def int_lit(self, c):
         t = c[0]
@@ -229,9 +256,12 @@ class _Builder(Transformer):
         return self._mk(m.BoolLit(t.type == "TRUE"), t.start, t.end, 1)
 
     def long_id(self, c):
-        toks = [x for x in c if isinstance(x, Tok)]
-        # head / tail rules are inlined by '!' (they return a Tree-less list); flatten
-        return toks
+        # head | long_id DOT tail: the list of name tokens, built in place
+        if len(c) == 1:
+            return [c[0]]
+        lst = c[0]
+        lst.append(c[2])
+        return lst
 
     def head(self, c):
         return c[0]
@@ -240,7 +270,7 @@ class _Builder(Transformer):
         return c[0]
 
     def name(self, c):
-        toks = [t for t in c[0] if t.type != "DOT"]
+        toks = c[0]
         ctx = self.ctx
         idx = ctx.smap
         part_spans = [idx.span(t.start, t.end) for t in toks]
@@ -286,7 +316,7 @@ class _Builder(Transformer):
         return c[0]
 
     def expr_list(self, c):
-        return [x for x in c if not isinstance(x, Tok)]
+        return self._list(c)
 
     def agg_list(self, c):
         f, _l, args, r = c
@@ -347,7 +377,13 @@ class _Builder(Transformer):
         return ("ifout", kind, val, c[0])
 
     def attr_body(self, c):
-        return [x for x in c if not isinstance(x, Tok)]
+        out = []
+        for x in c:
+            if isinstance(x, list):
+                out.extend(x)
+            else:
+                out.append(x)
+        return out
 
     def _fill(self, a: RawAttr, parts):
         seen = set()
@@ -379,7 +415,7 @@ class _Builder(Transformer):
     def struct_attr(self, c):
         ty, name, _l = c[0], c[1], c[2]
         r = c[-1]
-        refs = [x for x in c[3:-1] if isinstance(x, RawAttr)]
+        refs = c[3] if len(c) == 5 else []
         a = RawAttr(_tok(ty), _tok(name), ty.start, r.end, refinements=refs)
         return a
 
@@ -398,7 +434,7 @@ class _Builder(Transformer):
         return (k.value[1:-1], v.value[1:-1], k.start, c[-1].end)
 
     def data_block(self, c):
-        entries = [x for x in c if isinstance(x, tuple)]
+        entries = c[2] if len(c) == 4 else []
         return RawData(entries, c[0].start, c[-1].end)
 
     # -- groups and features
@@ -415,12 +451,12 @@ class _Builder(Transformer):
         return ("card", l.start, r.end, _tok(lo), _tok(hi))
 
     def children(self, c):
-        return [x for x in c if isinstance(x, RawChild)]
+        return self._list(c)
 
     def child_decl(self, c):
         opt = bool(c and isinstance(c[0], Tok) and c[0].type == "OPT")
         rest = c[1:] if opt else c
-        parts = [_tok(t) for t in rest[0] if t.type != "DOT"]
+        parts = rest[0]
         body = rest[1] if len(rest) > 1 else None
         start = c[0].start if opt else parts[0].start
         end = body.end if body is not None else parts[-1].end
@@ -438,7 +474,7 @@ class _Builder(Transformer):
     def child_shared(self, c):
         opt = c[0].type == "OPT"
         rest = c[1:] if opt else c
-        parts = [_tok(t) for t in rest[1] if t.type != "DOT"]
+        parts = rest[1]
         return RawChild(opt, True, parts, None, c[0].start, parts[-1].end, 1)
 
     def group_decl(self, c):
@@ -447,7 +483,7 @@ class _Builder(Transformer):
         return RawGroup(kind, ks, ke, lo, hi, children, g.start, r.end)
 
     def body(self, c):
-        items = [x for x in c[1:-1]]
+        items = c[1] if len(c) == 3 else []
         depth = max((ch.depth for it in items if isinstance(it, RawGroup) for ch in it.children), default=0)
         return RawBody(items, c[0].start, c[-1].end, depth)
 
@@ -458,12 +494,12 @@ class _Builder(Transformer):
 
     def root_decl(self, c):
         root, ids, body = c
-        parts = [_tok(t) for t in ids if t.type != "DOT"]
+        parts = ids
         return RawFeatureDecl(True, _tok(root), parts, body, root.start, body.end)
 
     def reopen_decl(self, c):
         ids, body = c
-        parts = [_tok(t) for t in ids if t.type != "DOT"]
+        parts = ids
         return RawFeatureDecl(False, None, parts, body, parts[0].start, body.end)
 
     def type_kw(self, c):
@@ -479,7 +515,7 @@ class _Builder(Transformer):
 
     def type_struct(self, c):
         kw, name = c[0], c[1]
-        fields = [x for x in c[3:-1] if isinstance(x, RawAttr)]
+        fields = c[3] if len(c) == 5 else []
         return RawType(_tok(kw), _tok(name), None, fields, kw.start, c[-1].end)
 
     def const_decl(self, c):
@@ -487,7 +523,7 @@ class _Builder(Transformer):
         return RawConst(_tok(ty), _tok(name), val, _k.start, semi.end)
 
     def start(self, c):
-        return list(c)
+        return c[0] if c else []
 
 
 @dataclass
@@ -630,6 +666,8 @@ class _SyntaxError(Exception):
 
 
 _TABLES = None
+# rules whose callback returns its single child unchanged
+_IDENTITY = {"head", "tail", "type_kw", "attr_type", "bound", "struct_field", "agg_func", "sel"}
 
 
 def _tables():
@@ -648,7 +686,20 @@ def _tables():
                 if action is Shift:
                     d[str(sym)] = (True, arg, 0, None)
                 else:
-                    d[str(sym)] = (False, str(arg.origin.name), len(arg.expansion), cbs[arg])
+                    origin = str(arg.origin.name)
+                    size = len(arg.expansion)
+                    unit = size == 1 and ((arg.options.expand1 and arg.alias is None) or origin in _IDENTITY)
+                    # call our builder method directly (lark's wrappers only filter what this
+                    # grammar never has: anonymous tokens and placeholders)
+                    meth = getattr(_BUILDER, str(arg.alias or origin), None)
+                    if unit:
+                        cb = None
+                    elif (meth is not None and not arg.options.expand1 and not arg.options.keep_all_tokens
+                          and not any(str(x.name).startswith("_") for x in arg.expansion)):
+                        cb = meth
+                    else:
+                        cb = cbs[arg]
+                    d[str(sym)] = (False, origin, size, cb)
             states[st] = d
         _TABLES = (states, pt.start_states["start"], pt.end_states["start"])
     return _TABLES
@@ -670,6 +721,12 @@ def _run_lalr(tokens: list[Tok], end_pos: int):
                 ss.append(act[1])
                 vs.append(tok)
                 break
+            cb = act[3]
+            if cb is None:  # unit rule whose value is its child: only the state changes
+                ss[-1] = states[ss[-2]][act[1]][1]
+                if ttype == "$END" and ss[-1] == end:
+                    return vs[-1]
+                continue
             size = act[2]
             if size:
                 args = vs[-size:]
@@ -677,7 +734,7 @@ def _run_lalr(tokens: list[Tok], end_pos: int):
                 del vs[-size:]
             else:
                 args = []
-            vs.append(act[3](args))
+            vs.append(cb(args))
             ss.append(states[ss[-1]][act[1]][1])
             if ttype == "$END" and ss[-1] == end:
                 return vs[-1]

@@ -1,0 +1,143 @@
+"""The editor clients agree with the server: settings, command names, file kinds, filetypes;
+the pre-commit hook's file pattern; and (when editors/vscode/node_modules is installed, as
+scripts/ci_editors.sh does) the TextMate grammar tests and the corpus tokenization."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+import yaml
+
+from tvl_lsp.features import commands as server_commands
+from tvl_lsp.server import Settings, file_kind
+
+REPO = Path(__file__).resolve().parents[1]
+EXT = REPO / "editors" / "vscode"
+NVIM_DIR = REPO / "editors" / "nvim"
+CORPUS = REPO.parent / "shared" / "corpus"
+PACKAGE = json.loads((EXT / "package.json").read_text())
+CLIENT_ONLY = ("tvl-lsp.server.", "tvl-lsp.trace.")
+
+
+def _nested(dotted: str, value) -> dict:
+    out: dict = {}
+    cur = out
+    parts = dotted.split(".")
+    for p in parts[:-1]:
+        cur = cur.setdefault(p, {})
+    cur[parts[-1]] = value
+    return out
+
+
+def _non_default(prop: dict):
+    t = prop.get("type")
+    if t == "object":
+        return {"missing-arg": "off"}
+    if t == "number":
+        return (prop.get("default") or 1) + 2.5
+    if t == "integer":
+        return (prop.get("default") or 1) + 3
+    if t == "string":
+        return "generated/configs"
+    raise AssertionError(f"no test value for type {t}")
+
+
+def test_every_vscode_setting_is_understood_by_the_server():
+    props = PACKAGE["contributes"]["configuration"]["properties"]
+    server_keys = [k for k in props if not k.startswith(CLIENT_ONLY)]
+    assert {"tvl-lsp.diagnostics", "tvl-lsp.count.timeBudget", "tvl-lsp.generate.folder"} <= set(server_keys)
+    for key in server_keys:
+        s = Settings()
+        before = dict(vars(s))
+        s.update(_nested(key, _non_default(props[key])))
+        assert vars(s) != before, f"the server ignores the VS Code setting {key}"
+    # the client sends this shape (serverSettings() in src/extension.ts)
+    src = (EXT / "src" / "extension.ts").read_text()
+    for key in server_keys:
+        leaf = key.split(".")[-1]
+        assert f"'{key[len('tvl-lsp.'):]}'" in src or leaf in src, f"extension.ts never sends {key}"
+
+
+def test_diagnostic_severity_values_match_the_server():
+    enum = PACKAGE["contributes"]["configuration"]["properties"]["tvl-lsp.diagnostics"][
+        "additionalProperties"]["enum"]
+    for value in enum:
+        s = Settings()
+        s.update({"tvl-lsp": {"diagnostics": {"missing-arg": value}}})
+        assert s.diagnostics == {"missing-arg": value}, value
+
+
+def test_the_clients_call_server_commands_that_exist():
+    server = {server_commands.INCLUDE, server_commands.EXCLUDE, server_commands.RESET,
+              server_commands.COUNT, server_commands.LIST, server_commands.GENERATE}
+    src = (EXT / "src" / "extension.ts").read_text()
+    called = set(re.findall(r"'(tvl-lsp\.[A-Za-z]+)'", src)) - {"tvl-lsp.running", "tvl-lsp.server"}
+    assert called, "extension.ts calls no server command"
+    assert called <= server, f"unknown server commands: {called - server}"
+    assert server <= called, f"server commands without a client command: {server - called}"
+    # the client's own palette commands are all contributed and none clashes with a server
+    # command (vscode-languageclient registers those itself)
+    contributed = {c["command"] for c in PACKAGE["contributes"]["commands"]}
+    registered = set(re.findall(r"registerCommand\('([^']+)'", src))
+    assert contributed == registered
+    assert not contributed & server
+
+
+def test_launch_and_model_extensions_are_files_the_server_analyses():
+    exts = [e for lang in PACKAGE["contributes"]["languages"] for e in lang["extensions"]]
+    assert set(exts) == {".tvl", ".launch", ".launch.xml", ".test"}
+    for e in exts:
+        assert file_kind(f"/ws/src/pkg/launch/generic{e}") in ("tvl", "launch"), e
+
+
+def test_neovim_filetypes_reach_the_lsp_config():
+    ftdetect = (NVIM_DIR / "ftdetect" / "tvl.lua").read_text()
+    config = (NVIM_DIR / "lsp" / "tvl_lsp.lua").read_text()
+    filetypes = set(re.findall(r"'([a-z]+)'", re.search(r"filetypes\s*=\s*\{([^}]*)\}", config).group(1)))
+    detected = set(re.findall(r"=\s*'([a-z]+)'", ftdetect)) | set(re.findall(r"return '([a-z]+)'", ftdetect))
+    assert detected == {"tvl", "roslaunch"}
+    assert detected <= filetypes
+    # every filetype has an ftplugin, tvl a syntax file
+    for ft in detected:
+        assert (NVIM_DIR / "ftplugin" / f"{ft}.lua").is_file()
+    assert (NVIM_DIR / "syntax" / "tvl.vim").is_file()
+
+
+def test_pre_commit_hook():
+    hooks = yaml.safe_load((REPO / ".pre-commit-hooks.yaml").read_text())
+    hook = next(h for h in hooks if h["id"] == "tvl-lsp-check")
+    assert hook["entry"] == "tvl-lsp --check"
+    assert hook["language"] == "python"
+    files = re.compile(hook["files"])
+    for yes in ["src/lizi/launch/generic.tvl", "src/lizi/launch/generic.launch", "launch/a.launch.xml",
+                "test/nav.test", "haros_lizi.yaml", "ws/haros.yml"]:
+        assert files.search(yes), yes
+    for no in ["src/lizi/package.xml", "config/params.yaml", "CMakeLists.txt", "a.tvl.bak"]:
+        assert not files.search(no), no
+
+
+def _node_ready() -> bool:
+    return shutil.which("node") is not None and (EXT / "node_modules" / "vscode-textmate").is_dir()
+
+
+@pytest.mark.skipif(not _node_ready(), reason="editors/vscode/node_modules missing (run scripts/ci_editors.sh)")
+def test_textmate_grammar_tests():
+    proc = subprocess.run(["npm", "run", "--silent", "test:grammar"], cwd=EXT, capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert proc.stdout.count("run successfuly") == len(list((EXT / "test" / "grammar").glob("*.*")))
+
+
+@pytest.mark.skipif(not _node_ready() or not CORPUS.is_dir(), reason="needs node_modules and shared/corpus")
+def test_every_corpus_file_tokenizes():
+    proc = subprocess.run(["node", "scripts/tokenize-corpus.js", str(CORPUS)], cwd=EXT,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    m = re.search(r"tokenized (\d+) \.tvl files and (\d+) launch files", proc.stdout)
+    n_tvl = len(list(CORPUS.rglob("*.tvl")))
+    assert m and int(m.group(1)) == n_tvl and int(m.group(2)) > 0, proc.stdout

@@ -1,0 +1,93 @@
+"""Configuration launch files (Listing 6.1): the pure functions and ``tvl-lsp generate``."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+from tvl_lsp.cli import main as cli_main
+from tvl_lsp.generate import (GenerateError, configuration_name, find_package, inside,
+                              normalise_product, plan_configurations, render_configuration,
+                              resolve_folder)
+
+SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+THESIS_WS = SHARED / "corpus" / "thesis" / "ws"
+FEATURES = ["Turtlerand", "Turtlesim", "Random", "Teleop"]
+
+
+def test_render_matches_the_thesis_listing_6_1():
+    want = (THESIS_WS / "src/turtlerand/configs/teleop.launch").read_text()
+    got = render_configuration({"Turtlerand": True, "Turtlesim": True, "Random": False, "Teleop": True},
+                               FEATURES, "$(find turtlerand)/launch/generic.launch")
+    assert got == want
+
+
+def test_products_in_any_shape_normalise_to_feature_args():
+    assert normalise_product({"Turtlerand.Turtlesim": True, "Random": False}, ["Turtlesim", "Random"]) == \
+        {"Turtlesim": True, "Random": False}
+    assert normalise_product({"Teleop"}, ["Teleop", "Random"]) == {"Teleop": True, "Random": False}
+
+
+def test_names_are_deterministic_and_bounded():
+    p = {"Turtlerand": True, "Turtlesim": True, "Teleop": True}
+    assert configuration_name(p, FEATURES, "generic", omit=["Turtlerand"]) == "generic_turtlesim-teleop.launch"
+    assert configuration_name({}, FEATURES, "generic") == "generic_none.launch"
+    many = [f"Feature_{i}" for i in range(40)]
+    a = configuration_name({f: True for f in many}, many, "g")
+    b = configuration_name({f: True for f in many[:-1]}, many, "g")
+    assert len(a) < 100 and a != b
+
+
+def test_attribute_values_are_escaped():
+    text = render_configuration({'A"b': True}, ['A"b'], "$(find p)/x&y.launch")
+    assert "&quot;" in text and "&amp;" in text
+
+
+def test_inside_resolves_dot_dot_and_symlinks(tmp_path):
+    ws = tmp_path / "ws"
+    (ws / "a").mkdir(parents=True)
+    outside = tmp_path / "out"
+    outside.mkdir()
+    os.symlink(outside, ws / "link")
+    assert inside(str(ws / "a" / "x.launch"), [str(ws)])
+    assert not inside(str(ws / ".." / "out" / "x.launch"), [str(ws)])
+    assert not inside(str(ws / "link" / "x.launch"), [str(ws)])
+
+
+def test_folders_outside_the_workspace_are_refused(tmp_path):
+    ws = tmp_path / "ws"
+    shutil.copytree(THESIS_WS, ws)
+    generic = ws / "src/turtlerand/launch/generic.launch"
+    assert resolve_folder(None, str(generic), [str(ws)]) == str(ws / "src/turtlerand/configs")
+    assert resolve_folder("gen/x", str(generic), [str(ws)]) == str(ws / "src/turtlerand/gen/x")
+    with pytest.raises(GenerateError):
+        resolve_folder("../../../elsewhere", str(generic), [str(ws)])
+    with pytest.raises(GenerateError):
+        resolve_folder("/etc", str(generic), [str(ws)])
+    with pytest.raises(GenerateError):
+        plan_configurations([{"Turtlerand": True}], FEATURES, str(generic), "/tmp", [str(ws)])
+
+
+def test_package_discovery_reads_package_xml():
+    name, folder = find_package(str(THESIS_WS / "src/lizi/launch/generic.launch"))
+    assert name == "lizi" and folder == str(THESIS_WS / "src/lizi")
+
+
+def test_cli_generates_the_four_turtlerand_configurations(tmp_path, capsys):
+    ws = tmp_path / "ws"
+    shutil.copytree(THESIS_WS, ws)
+    generic = ws / "src/turtlerand/launch/generic.launch"
+    assert cli_main(["generate", str(generic), "--mode", "all", "--out", "gen"]) == 0
+    files = sorted((ws / "src/turtlerand/gen").glob("*.launch"))
+    assert [f.name for f in files] == ["generic_turtlesim-random.launch", "generic_turtlesim-teleop-random.launch",
+                                       "generic_turtlesim-teleop.launch", "generic_turtlesim.launch"]
+    assert all("$(find turtlerand)/launch/generic.launch" in f.read_text() for f in files)
+    # a partial configuration: only its completions
+    assert cli_main(["generate", str(generic), "-i", "Teleop", "--out", "gen2"]) == 0
+    assert len(list((ws / "src/turtlerand/gen2").glob("*.launch"))) == 2
+    assert cli_main(["generate", str(generic), "--mode", "one", "-x", "Random", "--out", "gen3"]) == 0
+    assert [f.name for f in (ws / "src/turtlerand/gen3").glob("*.launch")] == ["generic_turtlesim.launch"]
+    assert cli_main(["generate", str(generic), "--out", "/tmp"]) == 2

@@ -1,0 +1,247 @@
+"""Navigation, rename, completion, structure, formatting, code lens, settings and position
+encodings, end to end with the Neovim and VS Code client profiles (pytest-lsp)."""
+
+from __future__ import annotations
+
+import asyncio
+
+import pytest
+import pytest_lsp
+from lsprotocol import types
+from pytest_lsp import LanguageClient
+
+from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, diagnostics,
+                            install_client_handlers, open_doc, position_of, start)
+
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+
+@pytest_lsp.fixture(config=CONFIG, params=PROFILES, scope="module")
+async def client(lsp_client: LanguageClient, request, tmp_path_factory):
+    ws = copy_ws(tmp_path_factory.mktemp("ws"))
+    lsp_client.ws = ws
+    install_client_handlers(lsp_client)
+    await start(lsp_client, request.param, ws)
+    lsp_client.lizi_tvl = ws / "src/lizi/launch/generic.tvl"
+    lsp_client.lizi_launch = ws / "src/lizi/launch/generic.launch"
+    lsp_client.tvl_uri = open_doc(lsp_client, lsp_client.lizi_tvl)
+    lsp_client.launch_uri = open_doc(lsp_client, lsp_client.lizi_launch)
+    yield
+    await lsp_client.shutdown_session()
+
+
+def tdi(uri):
+    return types.TextDocumentIdentifier(uri=uri)
+
+
+async def hover_text(client, uri, pos, want=None):
+    for _ in range(100):
+        h = await client.text_document_hover_async(types.HoverParams(text_document=tdi(uri), position=pos))
+        v = h.contents.value if h else ""
+        if want is None or want in v:
+            return v
+        await asyncio.sleep(0.1)
+    return v
+
+
+async def test_definition_from_launch_arg_use_goes_to_the_feature(client: LanguageClient):
+    text = client.lizi_launch.read_text()
+    pos = position_of(text, "$(arg Gazebo)", offset=7)
+    locs = await client.text_document_definition_async(types.DefinitionParams(
+        text_document=tdi(client.launch_uri), position=pos))
+    assert locs and locs[0].uri == client.tvl_uri
+    model = client.lizi_tvl.read_text()
+    assert locs[0].range.start == position_of(model, "Gazebo")
+
+
+async def test_declaration_of_a_launch_arg_is_its_arg_tag(client: LanguageClient):
+    text = client.lizi_launch.read_text()
+    pos = position_of(text, "$(arg Gazebo)", offset=7)
+    locs = await client.text_document_declaration_async(types.DeclarationParams(
+        text_document=tdi(client.launch_uri), position=pos))
+    assert locs and locs[0].uri == client.launch_uri
+    assert locs[0].range.start == position_of(text, '<arg name="Gazebo"', offset=11)
+
+
+async def test_references_span_model_and_launch_file(client: LanguageClient):
+    model = client.lizi_tvl.read_text()
+    pos = position_of(model, "Lidar", offset=1)
+    refs = await client.text_document_references_async(types.ReferenceParams(
+        text_document=tdi(client.tvl_uri), position=pos,
+        context=types.ReferenceContext(include_declaration=True)))
+    uris = [r.uri for r in refs]
+    launch_text = client.lizi_launch.read_text()
+    assert uris.count(client.tvl_uri) == model.count("Lidar")
+    assert uris.count(client.launch_uri) == launch_text.count("Lidar")
+
+
+async def test_rename_feature_updates_model_and_launch_file(client: LanguageClient):
+    model = client.lizi_tvl.read_text()
+    pos = position_of(model, "Lidar", offset=2)
+    prep = await client.text_document_prepare_rename_async(types.PrepareRenameParams(
+        text_document=tdi(client.tvl_uri), position=pos))
+    assert prep is not None
+    edit = await client.text_document_rename_async(types.RenameParams(
+        text_document=tdi(client.tvl_uri), position=pos, new_name="Laser"))
+    new_model = apply_text_edits(model, edit.changes[client.tvl_uri])
+    launch = client.lizi_launch.read_text()
+    new_launch = apply_text_edits(launch, edit.changes[client.launch_uri])
+    assert "Lidar" not in new_model and new_model.count("Laser") == model.count("Lidar")
+    assert "Lidar" not in new_launch and '<arg name="Laser"/>' in new_launch and "$(arg Laser)" in new_launch
+
+
+@pytest.mark.parametrize("bad", ["laser", "Cam", "group", "Two words"])
+async def test_rename_refuses_invalid_or_clashing_names(client: LanguageClient, bad):
+    model = client.lizi_tvl.read_text()
+    pos = position_of(model, "Lidar", offset=2)
+    with pytest.raises(Exception):
+        await client.text_document_rename_async(types.RenameParams(
+            text_document=tdi(client.tvl_uri), position=pos, new_name=bad))
+
+
+async def completion_labels(client, uri, pos):
+    res = await client.text_document_completion_async(types.CompletionParams(
+        text_document=tdi(uri), position=pos))
+    items = res.items if isinstance(res, types.CompletionList) else res
+    return {i.label for i in items}
+
+
+async def test_completion_in_tvl(client: LanguageClient):
+    model = client.lizi_tvl.read_text()
+    labels = await completion_labels(client, client.tvl_uri, position_of(model, "Gmapping ->"))
+    assert {"group", "oneOf", "opt", "Lidar", "Move_base"} <= labels
+
+
+async def test_completion_in_launch(client: LanguageClient, tmp_path):
+    path = client.ws / "src/lizi/launch/scratch.launch"
+    text = '<launch>\n  <arg name="Mine"/>\n  <node pkg="a" type="b" name="c" if="$(arg \n  <include file="$(find \n  <\n  <node \n</launch>\n'
+    uri = open_doc(client, path, text)
+    assert "Mine" in await completion_labels(client, uri, position_of(text, "$(arg ", offset=6))
+    assert {"lizi", "turtlerand"} <= await completion_labels(client, uri, position_of(text, "$(find ", offset=7))
+    assert {"node", "group", "include"} <= await completion_labels(client, uri, position_of(text, "  <\n", offset=3))
+    assert {"pkg", "type", "name", "if"} <= await completion_labels(client, uri, position_of(text, "<node \n", offset=6))
+
+
+async def test_document_symbols(client: LanguageClient):
+    syms = await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=tdi(client.tvl_uri)))
+    root = [s for s in syms if s.name == "Lizi"][0]
+    assert {"Hw", "Navigation", "Gazebo"} <= {c.name for c in root.children}
+    syms = await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=tdi(client.launch_uri)))
+    assert syms[0].name.startswith("<launch>")
+    assert any(c.name == "<arg> Gazebo" for c in syms[0].children)
+
+
+async def test_folding_ranges(client: LanguageClient):
+    fr = await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=tdi(client.tvl_uri)))
+    assert any(r.start_line == 0 for r in fr)
+    fr = await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=tdi(client.launch_uri)))
+    assert any(r.start_line == 0 for r in fr) and len(fr) > 5
+
+
+async def test_semantic_tokens(client: LanguageClient):
+    res = await client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(text_document=tdi(client.tvl_uri)))
+    data = res.data
+    assert data and len(data) % 5 == 0
+    # first two tokens: `root` (keyword) then `Lizi` (class, declaration)
+    assert list(data[:5]) == [0, 0, 4, 0, 0]
+    assert list(data[5:10]) == [0, 5, 4, 1, 1]
+
+
+async def test_formatting_is_idempotent(client: LanguageClient):
+    path = client.ws / "src/turtlerand/launch/messy.tvl"
+    text = "root Turtlerand {group allOf {Turtlesim group allOf {opt Teleop,\n opt Random}}}\n"
+    uri = open_doc(client, path, text)
+    edits = await client.text_document_formatting_async(types.DocumentFormattingParams(
+        text_document=tdi(uri), options=types.FormattingOptions(tab_size=2, insert_spaces=True)))
+    assert edits
+    once = apply_text_edits(text, edits)
+    assert once != text
+    client.text_document_did_change(types.DidChangeTextDocumentParams(
+        text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=2),
+        content_changes=[types.TextDocumentContentChangeWholeDocument(text=once)]))
+    again = await client.text_document_formatting_async(types.DocumentFormattingParams(
+        text_document=tdi(uri), options=types.FormattingOptions(tab_size=2, insert_spaces=True)))
+    assert not again
+
+
+async def test_hover_on_launch_arg_and_element(client: LanguageClient):
+    text = client.lizi_launch.read_text()
+    v = await hover_text(client, client.launch_uri, position_of(text, '<arg name="Gazebo"', offset=12), "of 2304")
+    assert "execute lizi inside gazebo sim" in v and "of 2304 products" in v
+    v = await hover_text(client, client.launch_uri, position_of(text, '<group if="$(arg Robot_state)">', offset=2), "of 2304")
+    assert "Robot_state" in v and "of 2304 products" in v
+
+
+async def test_hover_on_feature_shows_its_facts(client: LanguageClient):
+    model = client.lizi_tvl.read_text()
+    v = await hover_text(client, client.tvl_uri, position_of(model, "Gmapping", offset=1), "of 2304")
+    assert "parent: `Navigation`" in v and "of 2304 products" in v
+
+
+async def test_code_lens_on_root(client: LanguageClient):
+    for _ in range(100):
+        lenses = await client.text_document_code_lens_async(types.CodeLensParams(text_document=tdi(client.tvl_uri)))
+        if lenses and "2304" in lenses[0].command.title:
+            break
+        await asyncio.sleep(0.1)
+    assert lenses[0].command.title.startswith("2304 products") and lenses[0].range.start.line == 0
+
+
+async def test_settings_turn_a_code_off_and_change_severity(client: LanguageClient):
+    path = client.ws / "src/turtlerand/launch/generic.launch"
+    text = path.read_text().replace('  <arg name="Random"/>\n', "")
+    uri = open_doc(client, path, text)
+    ds = await diagnostics(client, uri, lambda ds: "missing-arg" in codes(ds))
+    assert [d.severity for d in ds if d.code == "missing-arg"] == [types.DiagnosticSeverity.Warning]
+    client.workspace_did_change_configuration(types.DidChangeConfigurationParams(
+        settings={"tvl-lsp": {"diagnostics": {"missing-arg": "hint"}}}))
+    ds = await diagnostics(client, uri, lambda ds: any(d.severity == types.DiagnosticSeverity.Hint for d in ds))
+    assert [d.severity for d in ds if d.code == "missing-arg"] == [types.DiagnosticSeverity.Hint]
+    client.workspace_did_change_configuration(types.DidChangeConfigurationParams(
+        settings={"tvl-lsp": {"diagnostics": {"missing-arg": "off"}}}))
+    ds = await diagnostics(client, uri, lambda ds: "missing-arg" not in codes(ds))
+    assert "missing-arg" not in codes(ds)
+    client.workspace_did_change_configuration(types.DidChangeConfigurationParams(
+        settings={"tvl-lsp": {"diagnostics": {}}}))
+
+
+async def test_editing_the_model_rechecks_the_paired_launch_file(client: LanguageClient):
+    lpath = client.ws / "src/turtlerand/launch/generic.launch"
+    luri = open_doc(client, lpath, version=10)
+    mpath = client.ws / "src/turtlerand/launch/generic.tvl"
+    mtext = mpath.read_text()
+    muri = open_doc(client, mpath, mtext)
+    ds = await diagnostics(client, luri, lambda ds: "missing-arg" not in codes(ds))
+    assert "missing-arg" not in codes(ds)
+    # add a feature to the unsaved model: the launch file now lacks its arg
+    new = mtext.replace("opt Random", "opt Random,\n      opt Extra")
+    client.text_document_did_change(types.DidChangeTextDocumentParams(
+        text_document=types.VersionedTextDocumentIdentifier(uri=muri, version=2),
+        content_changes=[types.TextDocumentContentChangeWholeDocument(text=new)]))
+    ds = await diagnostics(client, luri, lambda ds: "missing-arg" in codes(ds))
+    assert any("Extra" in d.message for d in ds if d.code == "missing-arg")
+    client.text_document_did_change(types.DidChangeTextDocumentParams(
+        text_document=types.VersionedTextDocumentIdentifier(uri=muri, version=3),
+        content_changes=[types.TextDocumentContentChangeWholeDocument(text=mtext)]))
+    ds = await diagnostics(client, luri, lambda ds: "missing-arg" not in codes(ds))
+    assert "missing-arg" not in codes(ds)
+
+
+async def test_positions_follow_the_negotiated_encoding(client: LanguageClient):
+    enc = client.init_result.capabilities.position_encoding or "utf-16"
+    path = client.ws / "src/turtlerand/launch/unicode.tvl"
+    prefix = "/* é😀 */ "
+    text = prefix + "root Ünicode { group allOf { Böse } }\n"
+    uri = open_doc(client, path, text)
+
+    def units(s):
+        if enc == "utf-8":
+            return len(s.encode("utf-8"))
+        if enc == "utf-32":
+            return len(s)
+        return len(s.encode("utf-16-le")) // 2
+    col = units(text[: text.index("Böse")])
+    locs = await client.text_document_definition_async(types.DefinitionParams(
+        text_document=tdi(uri), position=types.Position(line=0, character=col + 1)))
+    assert locs[0].range.start.character == col
+    assert locs[0].range.end.character == col + units("Böse")

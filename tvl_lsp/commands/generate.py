@@ -1,0 +1,102 @@
+"""``tvl-lsp generate LAUNCH [--model MODEL] [--out DIR] [--mode all|completions|one] [--limit N]
+[--include F]... [--exclude F]... [--dry-run]``
+
+Writes configuration launch files (the thesis's Listing 6.1) for the products of the model
+paired with a generic launch file: each sets the feature args to true/false and includes the
+generic file through ``$(find pkg)``.  The same pure functions as the language server's
+"generate configuration launch files" action (``tvl_lsp.generate``).  Files are named after
+the selected features, written under ``--out`` (default: ``configs`` in the launch file's
+package), never outside the workspace.  Prints one written path per line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(prog="tvl-lsp generate",
+                                 description="Write configuration launch files for the products of a model.")
+    ap.add_argument("launch", help="the generic launch file")
+    ap.add_argument("--model", help="the model (default: the one paired with the launch file)")
+    ap.add_argument("--out", help="output folder (absolute, or relative to the launch file's package)")
+    ap.add_argument("--mode", choices=["all", "completions", "one"], default="completions",
+                    help="all products, every completion of --include/--exclude (default), or one")
+    ap.add_argument("--limit", type=int, default=100, help="at most this many files (default 100)")
+    ap.add_argument("--include", "-i", action="append", default=[], metavar="F")
+    ap.add_argument("--exclude", "-x", action="append", default=[], metavar="F")
+    ap.add_argument("--workspace", help="workspace root (default: found from the launch file)")
+    ap.add_argument("--dry-run", action="store_true", help="print the files instead of writing them")
+    try:
+        args = ap.parse_args(argv)
+    except SystemExit as ex:
+        return 2 if ex.code else 0
+
+    from ..features._facts import generation_products
+    from ..generate import GenerateError, plan_configurations, resolve_folder
+    from ..launch import analyse_launch
+    from ..tvl import parse_model
+    from ..workspace import find_workspace_root, load_workspace, norm
+
+    launch = norm(args.launch)
+    if not os.path.isfile(launch):
+        print(f"tvl-lsp generate: cannot read {args.launch}", file=sys.stderr)
+        return 2
+    root = norm(args.workspace) if args.workspace else find_workspace_root(launch)
+    ws = load_workspace([root])
+    model = norm(args.model) if args.model else None
+    if model is None:
+        pairings, _ = ws.pair(launch)
+        models = [p.model for p in pairings if p.model]
+        if not models:
+            print(f"tvl-lsp generate: {args.launch} is paired with no model; pass --model", file=sys.stderr)
+            return 2
+        model = models[0]
+    try:
+        with open(model, encoding="utf-8", errors="replace") as fh:
+            mtext = fh.read()
+        with open(launch, encoding="utf-8", errors="replace") as fh:
+            ltext = fh.read()
+    except OSError as ex:
+        print(f"tvl-lsp generate: {ex}", file=sys.stderr)
+        return 2
+    res = parse_model(mtext, model)
+    if res.model is None or res.model.root is None:
+        print(f"tvl-lsp generate: {model} has no root feature", file=sys.stderr)
+        return 1
+    sources = dict(res.model.sources or {})
+    sources[model] = mtext
+    decisions = {f: True for f in args.include}
+    decisions.update({f: False for f in args.exclude})
+    try:
+        products = generation_products(model, sources, decisions, args.mode, max(1, args.limit))
+    except KeyError as ex:
+        print(f"tvl-lsp generate: {ex.args[0] if ex.args else ex}", file=sys.stderr)
+        return 2
+    analysis = analyse_launch(ltext, launch, workspace_root=root)
+    names = {f.name for f in res.model.features} | {f.long_name for f in res.model.features}
+    features = [a.name for a in analysis.feature_args if a.name in names and getattr(a, "value", None) is None]
+    package = ws.package_of(launch)
+    try:
+        out_dir = resolve_folder(args.out, launch, [root])
+        files = plan_configurations(products, features, launch, out_dir, [root], package,
+                                    ws.packages.get(package) if package else None,
+                                    omit=[res.model.root.name])
+    except GenerateError as ex:
+        print(f"tvl-lsp generate: {ex}", file=sys.stderr)
+        return 2
+    if not files:
+        print("tvl-lsp generate: no product matches", file=sys.stderr)
+        return 1
+    for f in files:
+        if args.dry_run:
+            print(f"==> {f.path}")
+            print(f.text)
+            continue
+        os.makedirs(os.path.dirname(f.path), exist_ok=True)
+        with open(f.path, "w", encoding="utf-8") as fh:
+            fh.write(f.text)
+        print(f.path)
+    return 0
