@@ -137,7 +137,16 @@ class Bench:
                 content_changes=[types.TextDocumentContentChangePartial(range=rng, text=new)]))
             await asyncio.sleep(interval)
         await asyncio.sleep(1.0)
-        return [self.got[k] - self.sent[k] for k in self.sent if k[0] == uri and k in self.got]
+        # a keystroke is shown once diagnostics for its version or a later one arrive
+        out = []
+        got = sorted((v, t) for (u, v), t in self.got.items() if u == uri)
+        for (u, v), t in self.sent.items():
+            if u != uri:
+                continue
+            later = [tg for vg, tg in got if vg >= v and tg >= t]
+            if later:
+                out.append(min(later) - t)
+        return out
 
     async def code_lens(self, uri: str):
         """What an editor asks when it shows a model (starts the counts)."""

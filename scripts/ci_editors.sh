@@ -79,6 +79,10 @@ node -e '
   console.log("tvl-lsp.vsix: " + buf.length + " bytes, contains the grammars and the bundled client");
 ' || die "the .vsix is incomplete"
 
+step "client unit tests (node --test: finding the server, messages, settings)"
+if "$PYTHON" -c 'import tvl_lsp' 2>/dev/null; then export TVL_TEST_PYTHON="$PYTHON"; fi
+npm run --silent test:unit || die "client unit tests failed"
+
 step "grammar tests (vscode-tmgrammar-test)"
 npm run --silent test:grammar || die "grammar tests failed"
 

@@ -188,3 +188,15 @@ def test_cross_check_without_model_on_a_bare_analysis():
            '<node pkg="p" type="t" name="n" unless="$(arg a)"/></launch>'
     la = analyse_launch(text, "/tmp/x.launch", features=["a"])
     assert cross_check(la) == []
+
+
+def test_a_model_with_syntax_errors_postpones_the_cross_checks(tmp_path):
+    (tmp_path / "robot.tvl").write_text("root Robot {\n  group allOf { Camera Lidar }\n}\n")
+    (tmp_path / "robot.launch").write_text('<launch>\n  <arg name="Robot"/>\n  <arg name="Cam"/>\n'
+                                           '  <node pkg="p" type="t" name="n" args="$(arg nope)"/>\n</launch>\n')
+    diags = check_paths([str(tmp_path)], jobs=1)
+    lf = [d for d in diags if d.path.endswith(".launch")]
+    codes = sorted(d.code for d in lf)
+    assert codes == ["paired-model-invalid", "undefined-arg"]   # no unmatched-arg for `Cam`
+    note = next(d for d in lf if d.code == "paired-model-invalid")
+    assert note.related and note.related[0].path.endswith("robot.tvl")

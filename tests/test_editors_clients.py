@@ -5,9 +5,11 @@ scripts/ci_editors.sh does) the TextMate grammar tests and the corpus tokenizati
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -105,7 +107,8 @@ def test_neovim_filetypes_reach_the_lsp_config():
     # every filetype has an ftplugin, tvl a syntax file
     for ft in detected:
         assert (NVIM_DIR / "ftplugin" / f"{ft}.lua").is_file()
-    assert (NVIM_DIR / "syntax" / "tvl.vim").is_file()
+    for ft in detected:
+        assert (NVIM_DIR / "syntax" / f"{ft}.vim").is_file(), ft
 
 
 def test_pre_commit_hook():
@@ -131,6 +134,17 @@ def test_textmate_grammar_tests():
                           text=True, timeout=120)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert proc.stdout.count("run successfuly") == len(list((EXT / "test" / "grammar").glob("*.*")))
+
+
+@pytest.mark.skipif(not _node_ready() or not (EXT / "out" / "extension.js").is_file(),
+                    reason="needs node_modules and the built extension (run scripts/ci_editors.sh)")
+def test_vscode_client_finds_the_server_or_says_why():
+    env = dict(os.environ, TVL_TEST_PYTHON=sys.executable)
+    proc = subprocess.run(["node", "--test", "test/unit/"], cwd=EXT, capture_output=True, text=True,
+                          timeout=120, env=env)
+    assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-2000:]
+    assert re.search(r"^# fail 0$", proc.stdout, re.M) and re.search(r"^# pass [1-9]", proc.stdout, re.M)
+    assert not re.search(r"^# skipped [1-9]", proc.stdout, re.M), proc.stdout
 
 
 @pytest.mark.skipif(not _node_ready() or not CORPUS.is_dir(), reason="needs node_modules and shared/corpus")

@@ -42,7 +42,7 @@ def test_emacs_eglot_diagnostics_hover_and_quick_fix(tmp_path):
     out = tmp_path / "result.json"
     env = dict(os.environ)
     env.update({"HOME": str(tmp_path / "home"), "TVL_LSP_REPO": str(REPO),
-                "TVL_LSP_CMD": f"{sys.executable} -m tvl_lsp", "TVL_E2E_WS": str(ws),
+                "TVL_LSP_CMD": json.dumps([sys.executable, "-m", "tvl_lsp"]), "TVL_E2E_WS": str(ws),
                 "TVL_E2E_OUT": str(out)})
     proc = subprocess.run([EMACS, "--batch", "-l", str(HARNESS)], cwd=ws, env=env, capture_output=True,
                           text=True, timeout=300, stdin=subprocess.DEVNULL)

@@ -67,7 +67,7 @@ def test_neovim_diagnostics_hover_and_quick_fix(tmp_path):
     env = dict(os.environ)
     env.update({
         "TVL_LSP_REPO": str(REPO),
-        "TVL_LSP_CMD": f"{sys.executable} -m tvl_lsp",
+        "TVL_LSP_CMD": json.dumps([sys.executable, "-m", "tvl_lsp"]),
         "TVL_E2E_WS": str(ws),
         "TVL_E2E_OUT": str(out),
         # keep the user's Neovim configuration, plugins and state out of the test
@@ -92,3 +92,17 @@ def test_neovim_diagnostics_hover_and_quick_fix(tmp_path):
     assert {"tvl_lsp attached", "expected diagnostics reported", "missing-arg gone after the fix",
             "hover on the model root shows the total"} <= names
     assert any(l.strip() == '<arg name="Map"/>' for l in result["buffer_after"])
+
+
+def test_neovim_says_when_the_server_cannot_be_run(tmp_path):
+    launch = tmp_path / "generic.launch"
+    launch.write_text("<launch/>\n")
+    msgs = tmp_path / "messages.txt"
+    env = dict(os.environ, TVL_LSP_REPO=str(REPO), TVL_LSP_CMD=json.dumps([str(tmp_path / "no-such-tvl-lsp")]),
+               XDG_CONFIG_HOME=str(tmp_path / "c"), XDG_DATA_HOME=str(tmp_path / "d"),
+               XDG_STATE_HOME=str(tmp_path / "s"), XDG_CACHE_HOME=str(tmp_path / "x"))
+    subprocess.run([NVIM, "--headless", "-n", "-i", "NONE", "-u", str(HERE / "init.lua"), str(launch),
+                    "+sleep 300m", f"+redir! > {msgs} | silent messages | redir END", "+qa!"],
+                   env=env, capture_output=True, timeout=60, stdin=subprocess.DEVNULL)
+    text = msgs.read_text()
+    assert "tvl-lsp: cannot run" in text and "no-such-tvl-lsp" in text, text

@@ -88,3 +88,11 @@ def test_empty_and_whitespace_files():
 def test_many_errors_are_bounded():
     res = run("root A { " + "= " * 5000 + "}")
     assert 0 < len(res.diagnostics) < 100
+
+
+def test_hundreds_of_errors_stay_bounded_and_keep_the_model():
+    text = "root A { group allOf { B } }\n" + "".join(f"B {{ x{i} == ; }}\n" for i in range(300))
+    res = run(text)
+    msgs = [d.message for d in res.diagnostics if d.code == "syntax-error"]
+    assert any("too many syntax errors" in m for m in msgs)
+    assert res.model.root.name == "A" and res.model.feature("B") is not None

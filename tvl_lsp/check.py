@@ -88,6 +88,15 @@ from .diagnostics import register as _register  # noqa: E402
 
 INTERNAL_ERROR = _register("internal-error", Severity.ERROR,
                            "tvl-lsp failed while analysing a file (a bug: please report it)", "workspace")
+MODEL_NOT_CHECKABLE = _register(
+    "paired-model-invalid", Severity.INFORMATION,
+    "The launch file's model has syntax errors: the checks against it wait until they are fixed", "cross")
+
+# errors after which the model's structure may be incomplete (features missing or misplaced):
+# checking a launch file against it would report args "naming no feature" that are fine
+STRUCTURAL = frozenset({"syntax-error", "illegal-character", "unterminated-comment", "unterminated-string",
+                        "nesting-too-deep", "file-too-large", "include-missing", "include-cycle",
+                        "first-not-root", "multiple-groups"})
 
 
 def check_model(path: str, text: Optional[str] = None, read_file: Optional[ReadFile] = None,
@@ -139,6 +148,22 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
             out.append(_internal(path, f"launch analysis failed: {exc!r}"))
             continue
         out += _launch_own(la)
+        broken = [d for d in (info.diagnostics if info is not None else []) if d.code in STRUCTURAL]
+        if broken or (info is not None and info.model.root is None):
+            from .text import Pos, Span
+            span = la.root.span if la.root is not None else Span(Pos(0, 0), Pos(0, 0))
+            first = broken[0] if broken else None
+            out.append(Diagnostic(
+                MODEL_NOT_CHECKABLE, Severity.INFORMATION, path, span,
+                f"{os.path.basename(p.model)} has syntax errors: the checks of this launch file against it "
+                "(args, dead elements, duplicates per product) resume when they are fixed",
+                related=[Related(first.path, first.span, first.message)] if first else []))
+            # what fails whatever the args still holds
+            from .analysis.formula import TRUE
+            out += [Diagnostic(f.code, f.severity, f.path, f.span, f.message,
+                               [r if isinstance(r, Related) else Related(*r) for r in f.related])
+                    for f in la.facts if f.condition == TRUE and f.path == path]
+            continue
         try:
             if info is not None:
                 out += cross_check(la, info.model, info.analysis.encoding, launch_text=text, model_path=p.model)

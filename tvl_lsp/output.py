@@ -134,12 +134,14 @@ def to_sarif(diags: Sequence[Diagnostic], read_file: ReadFile, base: Optional[st
     used = sorted({d.code for d in diags})
     rule_index = {c: i for i, c in enumerate(used)}
     rules = []
+    docs = _doc_sections()
     for c in used:
         info = CODES.get(c)
         rule = {"id": c, "name": "".join(w.capitalize() for w in c.split("-")),
                 "shortDescription": {"text": info.summary if info else c},
-                "helpUri": f"https://github.com/tvl-lsp/tvl-lsp/blob/main/docs/diagnostics.md#{c}",
                 "defaultConfiguration": {"level": _SARIF_LEVEL[info.severity] if info else "warning"}}
+        if c in docs:
+            rule["help"] = {"text": docs[c], "markdown": docs[c]}
         rules.append(rule)
     results = []
     for d in diags:
@@ -165,13 +167,22 @@ def to_sarif(diags: Sequence[Diagnostic], read_file: ReadFile, base: Optional[st
         "version": SARIF_VERSION,
         "runs": [{
             "tool": {"driver": {"name": "tvl-lsp", "version": tool_version or __version__,
-                                "informationUri": "https://github.com/tvl-lsp/tvl-lsp",
                                 "rules": rules}},
             "originalUriBaseIds": {"%SRCROOT%": {"uri": "file://" + urllib.parse.quote(base.replace(os.sep, "/").rstrip("/") + "/")}},
             "columnKind": "utf16CodeUnits",
             "results": results,
         }],
     }
+
+
+def _doc_sections() -> dict[str, str]:
+    """code -> its section of docs/diagnostics.md (empty when the docs are not installed)."""
+    try:
+        from .commands.explain import doc_text, sections
+        text = doc_text()
+        return sections(text) if text else {}
+    except Exception:
+        return {}
 
 
 def format_sarif(diags: Sequence[Diagnostic], read_file: ReadFile, base: Optional[str] = None, **_: object) -> str:

@@ -173,6 +173,7 @@ class TvlLanguageServer(LanguageServer):
         self.published: dict[str, list[types.Diagnostic]] = {}
         # caches keyed by content
         self.cache: dict[tuple, Any] = {}
+        self.parsed_cache: dict[str, tuple] = {}
         self._cache_order: list[tuple] = []
         self._facts_futures: dict[str, asyncio.Future] = {}
         self.disk_cache: dict[str, tuple[float, str]] = {}
@@ -269,20 +270,27 @@ class TvlLanguageServer(LanguageServer):
 
     # ------------------------------------------------------------ parsed documents, workspace, facts
     def _parse_key(self, path: str, text: str) -> tuple:
-        return ("parsed", path, content_key(text), self.epoch)
+        return (content_key(text), self.epoch)
 
     def _store_parsed(self, path: str, text: str, parsed) -> None:
+        """Keep the latest parse of each file only (parsed trees are big: keeping one per
+        keystroke would grow memory and garbage-collection pauses)."""
         if parsed is not None:
-            key = self._parse_key(path, text)
-            self.cache[key] = parsed
-            self._remember(key)
+            self.parsed_cache[path] = (self._parse_key(path, text), parsed)
+            if len(self.parsed_cache) > 256:
+                for k in list(self.parsed_cache)[:64]:
+                    if path_to_uri(k) not in self.docs:
+                        self.parsed_cache.pop(k, None)
 
     def parsed_now(self, path: str):
         """The parsed document for the current text of ``path`` if already known."""
         text = self.read_file(path)
         if text is None:
             return None
-        return self.cache.get(self._parse_key(path, text))
+        hit = self.parsed_cache.get(path)
+        if hit is not None and hit[0] == self._parse_key(path, text):
+            return hit[1]
+        return None
 
     async def parsed(self, path: str):
         """The parsed document (TvlResult / LaunchAnalysis) for the current text of ``path``."""
@@ -292,8 +300,7 @@ class TvlLanguageServer(LanguageServer):
         kind = _fk(path)
         if text is None or kind is None:
             return None
-        key = self._parse_key(path, text)
-        hit = self.cache.get(key)
+        hit = self.parsed_now(path)
         if hit is not None:
             return hit
         parsed = await self.run_in_thread(checks.parse_document, kind, path, text,
@@ -687,6 +694,34 @@ def _warm() -> None:
         pass
 
 
+def _start_watchdog(path: str, threshold: float = 0.3) -> None:
+    """Debug aid (``TVL_LSP_WATCHDOG=FILE``): log the event loop's stack whenever it is
+    blocked for more than ``threshold`` seconds."""
+    import traceback
+    main_id = threading.get_ident()
+    beat = [time.monotonic()]
+
+    async def heartbeat():
+        while True:
+            beat[0] = time.monotonic()
+            await asyncio.sleep(0.05)
+
+    def watch():
+        while True:
+            time.sleep(0.1)
+            stalled = time.monotonic() - beat[0]
+            if stalled > threshold:
+                frame = sys._current_frames().get(main_id)
+                with open(path, "a") as fh:
+                    fh.write(f"--- loop blocked {stalled:.2f}s\n")
+                    fh.write("".join(traceback.format_stack(frame)[-12:]))
+    threading.Thread(target=watch, daemon=True).start()
+    _WATCHDOG.append(heartbeat)
+
+
+_WATCHDOG: list = []
+
+
 def create_server() -> TvlLanguageServer:
     from .features import register_all
     server = TvlLanguageServer()
@@ -701,6 +736,8 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING"), stream=sys.stderr)
     server = create_server()
+    if os.environ.get("TVL_LSP_WATCHDOG"):
+        _start_watchdog(os.environ["TVL_LSP_WATCHDOG"])
     if argv and argv[0] == "--stdio":
         argv = argv[1:]
     if argv and argv[0] == "--tcp":

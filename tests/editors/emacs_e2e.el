@@ -35,7 +35,8 @@
     (let* ((repo (getenv "TVL_LSP_REPO")) (ws (file-name-as-directory (getenv "TVL_E2E_WS"))))
       (add-to-list 'load-path (expand-file-name "editors/emacs" repo))
       (require 'tvl-lsp)
-      (setq tvl-lsp-command (split-string (getenv "TVL_LSP_CMD")))
+      (setq tvl-lsp-command (let ((c (getenv "TVL_LSP_CMD"))) ; a JSON list, or words
+                                (if (string-prefix-p "[" c) (append (json-read-from-string c) nil) (split-string c))))
       (setq eglot-sync-connect t eglot-autoshutdown t)
       (find-file (expand-file-name e2e-launch ws))
       (e2e-check "launch file in roslaunch-mode" (eq major-mode 'roslaunch-mode) major-mode)

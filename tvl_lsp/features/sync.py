@@ -30,6 +30,9 @@ def register(ls) -> None:
     @ls.feature(types.INITIALIZED)
     async def initialized(ls, params):
         ls.warm_up()
+        from ..server import _WATCHDOG
+        for hb in _WATCHDOG:
+            asyncio.ensure_future(hb())
         await _pull_configuration(ls)
         if ls.cap("workspace.did_change_watched_files.dynamic_registration", False):
             try:

@@ -71,23 +71,37 @@ class ModelBuilder:
         self.pending_attrs: list[tuple[m.Feature, m.Attribute, RawAttr]] = []
         self.pending_constraints: list[tuple[m.Feature, RawConstraint]] = []
         self.cycle_edges_reported = False
+        self.sp = smap.span  # (start offset, end offset) -> Span
 
     # ------------------------------------------------------------ diagnostics
-    def sp(self, s: int, e: int) -> Span:
-        return self.smap.span(s, e)
 
     def diag(self, code: str, s: int, e: int, msg: str, sev: Optional[Severity] = None, related=None,
              fixes=None, data=None):
         from ..diagnostics import CODES
         sev = sev if sev is not None else CODES[code].severity
-        self.diags.append(Diagnostic(code, sev, self.smap.path(s), self.sp(s, e), msg,
+        path, span = self.smap.path(s), self.sp(s, e)
+        if fixes is None and data and "suggestions" in data:
+            fixes = self._fixes(path, span, data["suggestions"])
+        self.diags.append(Diagnostic(code, sev, path, span, msg,
                                      related=list(related or []), fixes=list(fixes or []), data=data))
 
     def diag_at(self, code: str, path: str, span: Span, msg: str, sev: Optional[Severity] = None,
-                related=None, data=None):
+                related=None, data=None, fixes=None):
         from ..diagnostics import CODES
         sev = sev if sev is not None else CODES[code].severity
-        self.diags.append(Diagnostic(code, sev, path, span, msg, related=list(related or []), data=data))
+        if fixes is None and data and "suggestions" in data:
+            fixes = self._fixes(path, span, data["suggestions"])
+        self.diags.append(Diagnostic(code, sev, path, span, msg, related=list(related or []), data=data,
+                                     fixes=list(fixes or [])))
+
+    @staticmethod
+    def _fixes(path: str, span: Span, names: list[str]) -> list[Fix]:
+        return [Fix(f"Change to '{n}'", (TextEdit(path, span, n),), i == 0 and len(names) == 1)
+                for i, n in enumerate(names)]
+
+    @staticmethod
+    def _close(name: str, candidates: Iterable[str]) -> list[str]:
+        return difflib.get_close_matches(name, sorted(set(candidates)), n=3, cutoff=0.6)
 
     @staticmethod
     def _suggest(name: str, candidates: Iterable[str]) -> str:
@@ -299,7 +313,7 @@ class ModelBuilder:
         if name not in self.table:
             self.diag(C_UNKNOWN, tok.start, tok.end,
                       f"no feature named '{name}' is declared before this {for_what}." + self._suggest(name, self.table.keys()),
-                      data={"name": name})
+                      data={"name": name, "suggestions": self._close(name, self.table.keys())})
             return None
         f = self.table[name]
         if f is None:
@@ -319,7 +333,7 @@ class ModelBuilder:
             if t.value not in kids:
                 self.diag(C_UNKNOWN, t.start, t.end,
                           f"feature '{f.name}' has no child named '{t.value}'." + self._suggest(t.value, kids.keys()),
-                          data={"name": t.value})
+                          data={"name": t.value, "suggestions": self._close(t.value, kids.keys())})
                 return None
             f = kids[t.value]
         return f
@@ -505,7 +519,7 @@ class ModelBuilder:
             if td is None:
                 self.diag(C_UNKNOWN_TYPE, ra.type_tok.start, ra.type_tok.end,
                           f"type '{ty}' of attribute '{name}' is not declared." + self._suggest(ty, self.types.keys()),
-                          data={"name": ty})
+                          data={"name": ty, "suggestions": self._close(ty, self.types.keys())})
             else:
                 a.type_decl = td
         base = self.base_type(a)
@@ -847,7 +861,7 @@ class ModelBuilder:
         elif head[:1].isupper():
             if head not in self.table:
                 return err(C_UNKNOWN, 0, f"no feature named '{head}'." + self._suggest(head, self.table.keys()),
-                           data={"name": head})
+                           data={"name": head, "suggestions": self._close(head, self.table.keys())})
             feat = self.table[head]
             if feat is None:
                 cands = self.by_name.get(head, [])
@@ -862,7 +876,7 @@ class ModelBuilder:
             if attr is None:
                 return err(C_UNKNOWN, 0, f"feature '{cur.name}' has no attribute '{head}'."
                            + self._suggest(head, [x.name for x in cur.attributes] + list(self.table.keys())),
-                           data={"name": head})
+                           data={"name": head, "suggestions": self._close(head, [x.name for x in cur.attributes])})
             feat = cur
         if feat is None and attr is None:
             return None
@@ -886,14 +900,14 @@ class ModelBuilder:
                 kids = {c.feature.name: c.feature for c in (feat.group.children if feat.group else [])}
                 if p not in kids:
                     return err(C_UNKNOWN, i, f"feature '{feat.name}' has no child named '{p}'."
-                               + self._suggest(p, kids.keys()), data={"name": p})
+                               + self._suggest(p, kids.keys()), data={"name": p, "suggestions": self._close(p, kids.keys())})
                 feat = kids[p]
                 pts.append(feat)
             else:
                 a = next((x for x in feat.attributes if x.name == p), None)
                 if a is None:
                     return err(C_UNKNOWN, i, f"feature '{feat.name}' has no attribute '{p}'."
-                               + self._suggest(p, [x.name for x in feat.attributes]), data={"name": p})
+                               + self._suggest(p, [x.name for x in feat.attributes]), data={"name": p, "suggestions": self._close(p, [x.name for x in feat.attributes])})
                 attr = a
                 pts.append(a)
         if attr is not None:
@@ -985,7 +999,7 @@ class ModelBuilder:
                 self.diag_at(C_UNKNOWN, node.path, node.span,
                              f"no feature, attribute, constant or enum value is named '{node.text}'."
                              + self._suggest(node.text, list(self.table.keys()) + list(self.constants.keys())),
-                             data={"name": node.text})
+                             data={"name": node.text, "suggestions": self._close(node.text, list(self.table.keys()) + list(self.constants.keys()))})
             else:
                 self._bad(node, f"{ctx} expects {'a number' if want == 'num' else 'a boolean' if want == 'bool' else want}, "
                                 f"but this is {self._tname(t)}")

@@ -35,8 +35,9 @@ OPERATORS = {
 
 _TOKEN_RE = re.compile(
     r"""
-    (?P<ws>[ \t\f\r\n]+)
-  | (?P<lcomment>//[^\r\n]*)
+    [ \t\f\r\n]*
+    (?:
+    (?P<lcomment>//[^\r\n]*)
   | (?P<bcomment>/\*.*?\*/)
   | (?P<ubcomment>/\*)
   | (?P<include>include[ \t]*\([ \t]*(?P<incpath>[^)\r\n]*?)[ \t]*\)[ \t]*;)
@@ -46,7 +47,8 @@ _TOKEN_RE = re.compile(
   | (?P<ustring>")
   | (?P<id>[^\W\d][\w$]*|\$[\w$]*)
   | (?P<op><->|->|<-|&&|\|\||==|!=|>=|<=|\.\.|[!><+\-*/\[\],(){}.?:;])
-  | (?P<bad>[^\w\s$"/\[\](){}.,;:?!<>=&|+\-*]+|.)
+  | (?P<bad>[^\w\s$"/\[\](){}.,;:?!<>=&|+\-*]+|\S)
+    )
     """,
     re.VERBOSE | re.DOTALL,
 )
@@ -78,46 +80,49 @@ def tokenize(text: str, keep_comments: bool = False) -> tuple[list[Tok], list[Le
     n = len(text)
     match = _TOKEN_RE.match
     bad_start = -1
+    bad_end = -1
     while pos < n:
         m = match(text, pos)
+        if m is None:  # only blanks remain
+            break
         kind = m.lastgroup
+        start = m.start(kind)
         end = m.end()
         if kind != "bad" and bad_start >= 0:
-            errors.append(LexError("illegal-character", bad_start, pos, text[bad_start:pos]))
+            errors.append(LexError("illegal-character", bad_start, bad_end, text[bad_start:bad_end]))
             bad_start = -1
-        if kind == "ws":
-            pass
+        if kind == "id":
+            v = m.group(kind)
+            append(Tok(kw.get(v, "ID"), v, start, end))
+        elif kind == "op":
+            v = m.group(kind)
+            append(Tok(ops[v], v, start, end))
+        elif kind == "int":
+            append(Tok("INT", m.group(kind), start, end))
+        elif kind == "real":
+            append(Tok("REAL", m.group(kind), start, end))
         elif kind == "lcomment" or kind == "bcomment":
             if keep_comments:
-                append(Tok("COMMENT", m.group(), pos, end))
-        elif kind == "id":
-            v = m.group()
-            append(Tok(kw.get(v, "ID"), v, pos, end))
-        elif kind == "op":
-            v = m.group()
-            append(Tok(ops[v], v, pos, end))
+                append(Tok("COMMENT", m.group(kind), start, end))
         elif kind == "include":
-            append(Tok("INCLUDE", m.group("incpath"), pos, end))
-        elif kind == "int":
-            append(Tok("INT", m.group(), pos, end))
-        elif kind == "real":
-            append(Tok("REAL", m.group(), pos, end))
+            append(Tok("INCLUDE", m.group("incpath"), start, end))
         elif kind == "string":
-            append(Tok("STRING", m.group(), pos, end))
+            append(Tok("STRING", m.group(kind), start, end))
         elif kind == "ubcomment":
-            errors.append(LexError("unterminated-comment", pos, min(n, pos + 2), "/*"))
+            errors.append(LexError("unterminated-comment", start, min(n, start + 2), "/*"))
             break
         elif kind == "ustring":
-            eol = text.find("\n", pos)
+            eol = text.find("\n", start)
             eol = n if eol < 0 else eol
-            errors.append(LexError("unterminated-string", pos, eol, text[pos:eol]))
+            errors.append(LexError("unterminated-string", start, eol, text[start:eol]))
             end = eol
         else:  # bad
             if bad_start < 0:
-                bad_start = pos
+                bad_start = start
+            bad_end = end
             if len(errors) > 200:
                 break
         pos = end
     if bad_start >= 0:
-        errors.append(LexError("illegal-character", bad_start, pos, text[bad_start:pos]))
+        errors.append(LexError("illegal-character", bad_start, bad_end, text[bad_start:bad_end]))
     return toks, errors

@@ -1,10 +1,16 @@
 """Syntax: lark LALR over the tokens of :mod:`.lexer`, building raw declarations and model
 expressions inline (no parse tree), with error recovery.
 
+lark builds the LALR(1) table from ``grammars/tvl.lark`` and the callbacks; a lean driver
+(:func:`_run_lalr`) runs it over our own tokens (lark's generic loop is several times slower on
+this grammar's long chains of unit rules).
+
 Recovery: on a syntax error the statement around the offending token (back to the previous
 ``;``/``{``/``}`` of the same brace level, forward to the next ``;`` of that level) is dropped
-and the token list is parsed again; a missing ``}`` at the end of the file is supplied.  Each
-error is reported once and everything else is still built.
+and the token list is parsed again; a missing ``,``/``;`` between two names is reported and
+supplied, as is a missing ``}`` at the end of the file.  Each error is reported once and
+everything else is still built.  The work is bounded: past a budget, the rest of the file
+after the last error is given up (and said so).
 """
 
 from __future__ import annotations
@@ -14,8 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Optional
 
-from lark import Lark, Token, Transformer
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+from lark import Lark, Transformer
 from lark.lexer import Lexer
 
 from bisect import bisect_right as _bisect_right
@@ -111,8 +116,6 @@ class RawFeatureDecl:
     body: RawBody
     start: int
     end: int
-    path: str = ""
-    index: Optional[LineIndex] = None
 
 
 @dataclass(eq=False)
@@ -123,8 +126,6 @@ class RawType:
     fields: list[RawAttr]
     start: int
     end: int
-    path: str = ""
-    index: Optional[LineIndex] = None
 
 
 @dataclass(eq=False)
@@ -134,8 +135,6 @@ class RawConst:
     value: m.Expr
     start: int
     end: int
-    path: str = ""
-    index: Optional[LineIndex] = None
 
 
 @dataclass
@@ -584,13 +583,25 @@ class SourceMap:
 
     def span(self, s: int, e: int) -> Span:
         if len(self.bases) == 1:
-            k = 0
-            base = 0
-        else:
-            k = self._k(s)
-            base = self.bases[k]
-            if e < s or self._k(e) != k:
-                e = base + len(self.indexes[k].text)
+            # one file: the hot path
+            idx = self.indexes[0]
+            starts = idx.starts
+            n = len(idx.text)
+            if s > n:
+                s = n
+            if e < s:
+                e = s
+            elif e > n:
+                e = n
+            l1 = _bisect_right(starts, s) - 1
+            if l1 + 1 >= len(starts) or e < starts[l1 + 1]:
+                return _span(l1, s - starts[l1], l1, e - starts[l1])
+            l2 = _bisect_right(starts, e) - 1
+            return _span(l1, s - starts[l1], l2, e - starts[l2])
+        k = self._k(s)
+        base = self.bases[k]
+        if e < s or self._k(e) != k:
+            e = base + len(self.indexes[k].text)
         idx = self.indexes[k]
         starts = idx.starts
         n = len(idx.text)
@@ -705,16 +716,35 @@ def _tables():
     return _TABLES
 
 
-def _run_lalr(tokens: list[Tok], end_pos: int):
+def _run_lalr(tokens: list[Tok], end_pos: int, panic: bool = False):
+    """Run the LALR table over ``tokens``.  With ``panic``, a token that cannot be used is
+    skipped (and at the end, missing ';' / '}' are supplied) instead of raising."""
     states, start, end = _tables()
     ss = [start]
     vs: list = []
     end_tok = Tok("$END", "", end_pos, end_pos)
-    for tok in tokens + [end_tok]:
+    stream = tokens + [end_tok]
+    i = 0
+    fixes = 0
+    while i < len(stream):
+        tok = stream[i]
+        i += 1
         ttype = tok.type
         while True:
             row = states[ss[-1]]
             act = row.get(ttype)
+            if act is None and panic:
+                if ttype != "$END":
+                    break  # skip this token
+                fixes += 1
+                for fill in ("SEMI", "RBRACE", "RPAR", "RBRACK"):
+                    if fill in row and fixes < 1000:
+                        i -= 1  # feed the filler, then $END again
+                        stream.insert(i, Tok(fill, "", end_pos, end_pos))
+                        break
+                else:
+                    return []
+                break
             if act is None:
                 raise _SyntaxError(tok, {k for k in row if k.isupper()})
             if act[0]:
@@ -759,12 +789,35 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
     toks = list(toks)
     end_pos = toks[-1].end if toks else 0
     ctx = _Ctx(smap, [])
+    budget = max(3 * len(toks), 1_500_000)  # tokens fed over all attempts
+    gave_up = False
     with _LOCK:
         _tables()
-        for _attempt in range(60):
+        for _attempt in range(62):
+            if (_attempt >= 60 or budget <= 0) and not gave_up and last_drop is not None:
+                # too many errors: keep what precedes the last one, give up the rest
+                gave_up = True
+                a = min(last_drop + 1, len(toks) - 1)
+                issues.append(SyntaxIssue("syntax-error", toks[a].start, toks[a].end,
+                                          "too many syntax errors: from here on, what cannot be "
+                                          "understood is skipped without further messages"))
+                budget = 0
+                continue
+            elif _attempt >= 60 or budget <= 0:
+                # last resort, one pass that skips what it cannot use
+                ctx = _Ctx(smap, [])
+                _BUILDER.ctx = ctx
+                feed = [t for t, a in zip(toks, alive) if a]
+                try:
+                    items = _run_lalr(feed, end_pos, panic=True)
+                except Exception:  # pragma: no cover - defensive
+                    items = []
+                issues.extend(ctx.issues)
+                return items, issues
             ctx = _Ctx(smap, [])
             _BUILDER.ctx = ctx
             feed = (toks if all(alive) else [t for t, a in zip(toks, alive) if a]) + extra
+            budget -= len(feed)
             try:
                 items = _run_lalr(feed, end_pos)
                 issues.extend(ctx.issues)

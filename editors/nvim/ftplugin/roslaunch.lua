@@ -1,6 +1,5 @@
--- ROS launch files are XML: reuse the xml syntax, indentation and tree-sitter parser.
+-- ROS launch files are XML: reuse the xml filetype plugin (comments, matchit pairs, ...).
+vim.cmd('runtime! ftplugin/xml.vim ftplugin/xml_*.vim ftplugin/xml/*.vim')
 vim.bo.commentstring = '<!-- %s -->'
-if vim.bo.syntax == '' or vim.bo.syntax == 'roslaunch' then
-  vim.bo.syntax = 'xml'
-end
+-- a tree-sitter xml parser, if installed, serves roslaunch too
 pcall(vim.treesitter.language.register, 'xml', 'roslaunch')

@@ -11,11 +11,8 @@ local function default_cmd()
   if vim.g.tvl_lsp_python then
     return { vim.g.tvl_lsp_python, '-m', 'tvl_lsp' }
   end
-  if vim.fn.executable('tvl-lsp') == 1 then
-    return { 'tvl-lsp' }
-  end
-  -- not on PATH: a python3 that has the package installed (nvim reports clearly if it cannot start)
-  return { 'python3', '-m', 'tvl_lsp' }
+  -- when it is not on PATH, Neovim says "Spawning language server with cmd: `tvl-lsp` failed"
+  return { 'tvl-lsp' }
 end
 
 local function is_workspace_marker(name)

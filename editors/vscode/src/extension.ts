@@ -92,7 +92,7 @@ function onPath(exe: string): string | undefined {
 }
 
 /** Work out how to start the server, or explain why it cannot be started. */
-function serverCommand(): ServerCommand | string {
+export function serverCommand(): ServerCommand | string {
   const cfg = vscode.workspace.getConfiguration(SECTION);
   const exe = expand(cfg.get<string>('server.path', ''));
   const python = expand(cfg.get<string>('server.pythonPath', ''));
@@ -122,7 +122,7 @@ function serverCommand(): ServerCommand | string {
 }
 
 /** The server's settings: everything in the tvl-lsp section but the client-only `server`. */
-function serverSettings(): Record<string, unknown> {
+export function serverSettings(): Record<string, unknown> {
   const cfg = vscode.workspace.getConfiguration(SECTION);
   return {
     diagnostics: cfg.get('diagnostics', {}),
