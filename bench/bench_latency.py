@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import asyncio
 import shutil
-import statistics
 import sys
 import tempfile
 import time
@@ -82,6 +81,10 @@ class Bench:
             return None
 
     async def start(self, root: Path):
+        # the server's log goes to a file: nobody reads this client's stderr pipe
+        import os
+        self.logfile = str(root.parent / "server.log")
+        os.environ["TVL_LSP_LOGFILE"] = self.logfile
         await self.client.start_io(sys.executable, "-m", "tvl_lsp")
         caps = types.ClientCapabilities(
             window=types.WindowClientCapabilities(work_done_progress=True),
@@ -213,7 +216,6 @@ async def main_async(args) -> int:
     print(f"hover (idle)              {'lizi <arg>':18s} {fmt(idle)}")
 
     # a long count: per-feature counts of the 2,000-feature model, started by a hover on it
-    btext = big.read_text()
     big2 = big_dir / "big2.tvl"
     big2_text = generate_model(2000, seed=2)
     big2.write_text(big2_text)
@@ -233,6 +235,9 @@ async def main_async(args) -> int:
     print(f"hover during a count      {'lizi feature':18s} {fmt(during)}   "
           f"[the 2,000-feature count {'finished' if counted else 'was still running'} after "
           f"{time.perf_counter() - t0:.1f} s]")
+    log = Path(b.logfile).read_text() if Path(b.logfile).exists() else ""
+    if log.strip():
+        print("# server log:\n" + log[-3000:])
     await b.client.shutdown_async(None)
     b.client.exit(None)
     await asyncio.sleep(0.2)

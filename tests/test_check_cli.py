@@ -169,3 +169,45 @@ def test_default_path_is_the_current_folder(capsys, monkeypatch):
     monkeypatch.chdir(ROBOT)
     code, out, _ = run(capsys)
     assert code == 1 and out.startswith("robot.launch:1:1: warning[missing-arg]")
+
+
+def test_garbage_never_crashes_the_check(tmp_path, capsys):
+    import random
+    rnd = random.Random(3)
+    blobs = [bytes(rnd.randrange(256) for _ in range(2000)) for _ in range(4)]
+    (tmp_path / "bin.launch").write_bytes(blobs[0])
+    (tmp_path / "bin.tvl").write_bytes(blobs[1])
+    (tmp_path / "bin.yaml").write_bytes(b"configurations:\n" + blobs[2])
+    (tmp_path / "empty.launch").write_text("")
+    (tmp_path / "empty.tvl").write_text("")
+    (tmp_path / "bom.launch.xml").write_bytes(b"\xef\xbb\xbf<launch><node/></launch>")
+    (tmp_path / "bomb.launch").write_text('<!DOCTYPE l [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;">]>'
+                                          "<launch>&b;</launch>")
+    (tmp_path / "deep.launch").write_text("<launch>" + "<group>" * 3000 + "</group>" * 3000 + "</launch>")
+    (tmp_path / "p.yml").write_text("configurations:\n  - {lf: bin.launch, tvl: bin.tvl}\n")
+    code, out, err = run(capsys, str(tmp_path), "--format", "json")
+    assert code == 1, err
+    data = json.loads(out)
+    assert "internal-error" not in {o["code"] for o in data}
+    assert {o["path"] for o in data} >= {str(tmp_path / "bin.launch"), str(tmp_path / "bomb.launch")}
+
+
+def test_check_document_for_each_kind_of_file():
+    from tvl_lsp.check import check_document, pairing_of
+    ds = check_document(str(PAIRS / "badws/haros_missing.yaml"))
+    assert [d.code for d in ds] == ["project-file-not-found"]
+    assert check_document(str(PAIRS / "clean/clean.tvl")) == []
+    ds = check_document(str(PAIRS / "robot/robot.tvl"), "root Robot { group allOf { A } A -> !A; }")
+    assert "void-model" in {d.code for d in ds}
+    (p,) = pairing_of(str(PAIRS / "marker/bringup.launch"))
+    assert p.rule == "marker" and p.model == str(PAIRS / "clean/clean.tvl")
+    assert check_document(str(PAIRS / "nothing.txt")) == []
+
+
+def test_select_codes_of_every_area_in_a_fresh_process():
+    # the codes of the front ends are known before any file is analysed
+    r = subprocess.run([sys.executable, "-m", "tvl_lsp", "--check", str(ROBOT), "-q", "--select",
+                        "duplicate-node,syntax-error,dead-feature,invalid-project"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 1, r.stderr
+    assert [l.split(" ")[1] for l in r.stdout.splitlines()] == ["error[duplicate-node]"]

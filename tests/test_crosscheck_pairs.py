@@ -200,3 +200,26 @@ def test_a_model_with_syntax_errors_postpones_the_cross_checks(tmp_path):
     assert codes == ["paired-model-invalid", "undefined-arg"]   # no unmatched-arg for `Cam`
     note = next(d for d in lf if d.code == "paired-model-invalid")
     assert note.related and note.related[0].path.endswith("robot.tvl")
+
+
+def test_nav_pair_scopes_namespaces_and_includes():
+    """nav/: a conditional arg declaration, a group-local arg used outside its group, a node
+    name clash through a namespace, a dead include, and includes the model keeps apart."""
+    diags = check_paths([str(PAIRS / "nav")], jobs=1)
+    lf = PAIRS / "nav/nav.launch"
+    got = sorted((d.code, d.span.start.line + 1) for d in diags)
+    assert got == [("dead-element", 27), ("duplicate-node", 23), ("undefined-arg", 12), ("undefined-arg", 17),
+                   ("unmatched-arg", 11)]
+    by = {(d.code, d.span.start.line + 1): d for d in diags}
+    speed = by[("undefined-arg", 12)]
+    assert "'speed'" in speed.message and _product(speed.witness) == {"Nav", "Planner", "Dwa"}
+    assert not speed.witness["Fast"]
+    mapf = by[("undefined-arg", 17)]
+    # the smallest product with Localization where roslaunch does not stop earlier on `speed`
+    assert _product(mapf.witness) == {"Nav", "Planner", "Localization", "Teb"}
+    dup = by[("duplicate-node", 23)]
+    assert "/nav/slam" in dup.message and _product(dup.witness) == {"Nav", "Planner", "Mapping", "Teb"}
+    dead = by[("dead-element", 27)]
+    line = lf.read_text().splitlines()[26]
+    assert line[dead.span.start.col:dead.span.end.col].startswith("<include")
+    assert {r.path for r in dead.related} == {str(PAIRS / "nav/nav.tvl")}

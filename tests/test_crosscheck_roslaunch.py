@@ -181,6 +181,8 @@ def _args(witness: dict) -> dict:
 
 
 def _name_of(d) -> str:
+    if d.data and d.data.get("arg"):
+        return d.data["arg"]
     if d.code == "duplicate-node":
         return re.search(r"named \[([^\]]+)\]", d.message).group(1)
     return re.search(r"'([^']+)'", d.message.split("]", 1)[-1] if d.message.startswith("[") else d.message).group(1)
@@ -188,7 +190,8 @@ def _name_of(d) -> str:
 
 @pytest.fixture(scope="module")
 def reported():
-    diags = check_paths([str(WS), str(PAIRS / "robot"), str(PAIRS / "alone"), str(PAIRS / "clean")], jobs=1)
+    diags = check_paths([str(WS), str(PAIRS / "robot"), str(PAIRS / "alone"), str(PAIRS / "clean"),
+                         str(PAIRS / "nav")], jobs=1)
     return [d for d in diags if d.code in KIND and d.witness is not None]
 
 
@@ -205,17 +208,18 @@ def test_every_witness_makes_roslaunch_raise_that_error(sandbox, reported):
 
 
 PAIRED = [  # (launch file, model, sample size or None for every product)
-    ("src/turtlerand/launch/generic.launch", "src/turtlerand/launch/generic.tvl", None),
-    ("src/turtlerand/launch/generic_alt.launch", "src/turtlerand/launch/generic_alt.tvl", None),
-    ("src/turtlebot_bringup/launch/generic.launch", "src/turtlebot/launch/turtlebot.tvl", 40),
-    ("src/lizi/launch/generic.launch", "src/lizi/launch/generic.tvl", 40),
+    (WS / "src/turtlerand/launch/generic.launch", WS / "src/turtlerand/launch/generic.tvl", None),
+    (WS / "src/turtlerand/launch/generic_alt.launch", WS / "src/turtlerand/launch/generic_alt.tvl", None),
+    (WS / "src/turtlebot_bringup/launch/generic.launch", WS / "src/turtlebot/launch/turtlebot.tvl", 40),
+    (WS / "src/lizi/launch/generic.launch", WS / "src/lizi/launch/generic.tvl", 40),
+    (PAIRS / "robot/robot.launch", PAIRS / "robot/robot.tvl", None),
+    (PAIRS / "nav/nav.launch", PAIRS / "nav/nav.tvl", None),
 ]
 
 
-@pytest.mark.parametrize("launch,model,sample", PAIRED, ids=[p[0].split("/")[1] + "/" + Path(p[0]).name
-                                                              for p in PAIRED])
-def test_roslaunch_raises_nothing_tvl_lsp_did_not_report(sandbox, reported, launch, model, sample):
-    lf, mf = WS / launch, WS / model
+@pytest.mark.parametrize("lf,mf,sample", PAIRED, ids=[p[0].parent.parent.name + "/" + p[0].name for p in PAIRED])
+def test_roslaunch_raises_nothing_tvl_lsp_did_not_report(sandbox, reported, lf, mf, sample):
+    launch = str(lf)
     res = parse_model(mf.read_text(), str(mf))
     ma = ModelAnalysis(res.model)
     products = list(ma.enumerate(limit=None))
@@ -241,5 +245,5 @@ def test_roslaunch_raises_nothing_tvl_lsp_did_not_report(sandbox, reported, laun
                  and (f"'{name}'" in f.message or f"[{name}]" in f.message)]
         assert facts, (launch, product, res["message"])
         assert any(KIND[d.code] == kind and _name_of(d) == name for d in here), (launch, res["message"])
-    if "lizi" in launch:
-        assert raised > 0   # the products with Gazebo stop on depth_cam
+    if "lizi" in launch or "pairs" in launch:
+        assert raised > 0   # lizi: the products with Gazebo stop on depth_cam

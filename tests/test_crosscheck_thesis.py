@@ -8,7 +8,8 @@ lizi generic.launch <-> lizi generic.tvl; the other launch files have no model.
   pairs: no missing-arg / unmatched-arg;
 - lizi line 74: ``$(arg depth_cam)`` / ``$(arg cam)`` inside ``<group if="$(arg Gazebo)">``:
   only ``Depth_cam`` / ``Cam`` are declared, so roslaunch stops with "requires the 'depth_cam'
-  arg to be set" in every product with Gazebo; the smallest is {Lizi, Gazebo};
+  arg to be set" in every product with Gazebo (the smallest is {Lizi, Gazebo}); it never gets to
+  ``cam``, which the same diagnostic names;
 - turtlebot line 135: ``arg('battery')`` of the group arg ``battery`` declared without a value:
   "requires the 'battery' arg to be set" whenever Battery is selected (unset-arg);
 - constant conditions: turtlerand generic(_alt).launch ``if="$(arg Turtlesim)"`` (Turtlesim is
@@ -76,6 +77,8 @@ def test_lizi_undefined_depth_cam_with_witness(diags):
     assert "`Depth_cam`" in d.message            # the close name is suggested
     assert len(d.witness) == 16                  # every feature of the lizi model
     assert {k for k, v in d.witness.items() if v} == {"Lizi", "Gazebo"}
+    # roslaunch stops at depth_cam; cam, in the same value, is undeclared too: the message says so
+    assert "`$(arg cam)` in the same value is not declared either (did you mean `Cam`?)" in d.message
 
 
 def test_turtlebot_battery_is_never_set(diags):

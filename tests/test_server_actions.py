@@ -12,8 +12,8 @@ import pytest_lsp
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 
-from server_helpers import (CONFIG, PROFILES, REPO, apply_text_edits, codes, copy_ws, diagnostics,
-                            install_client_handlers, open_doc, position_of, start)
+from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, diagnostics,
+                            install_client_handlers, open_doc, start)
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 

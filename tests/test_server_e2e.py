@@ -8,7 +8,7 @@ import pytest_lsp
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 
-from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, diagnostics,
+from server_helpers import (CONFIG, PROFILES, codes, copy_ws, diagnostics,
                             install_client_handlers, open_doc, position_of, start)
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -37,6 +37,26 @@ async def test_lizi_launch_shows_its_real_problems(client: LanguageClient):
     assert "depth_cam" in line[und[0].range.start.character: und[0].range.end.character]
 
 
+async def test_server_and_check_cli_agree_on_every_thesis_file(client: LanguageClient):
+    """The server runs the same pipeline as ``tvl-lsp --check``: same diagnostics."""
+    from tvl_lsp.check import check_document
+    rels = ["src/lizi/launch/generic.launch", "src/lizi/launch/generic.tvl",
+            "src/turtlebot_bringup/launch/generic.launch", "src/turtlebot/launch/turtlebot.tvl",
+            "src/turtlerand/launch/generic_alt.launch", "src/turtlerand/launch/generic_alt.tvl",
+            "src/turtlerand/launch/generic_group_technique.launch"]
+    for rel in rels:
+        path = client.ws / rel
+        want = sorted((d.code, d.span.start.line, d.span.start.col, d.message)
+                      for d in check_document(str(path), path.read_text(), roots=[str(client.ws)]))
+        uri = open_doc(client, path)
+
+        def same(ds):
+            return sorted((d.code, d.range.start.line, d.range.start.character, d.message) for d in ds) == want
+        diags = await diagnostics(client, uri, same, timeout=20)
+        got = sorted((d.code, d.range.start.line, d.range.start.character, d.message) for d in diags)
+        assert got == want, rel
+
+
 async def test_hover_on_lizi_root_shows_2304(client: LanguageClient):
     path = client.ws / "src/lizi/launch/generic.tvl"
     uri = open_doc(client, path)
@@ -53,3 +73,14 @@ async def test_hover_on_lizi_root_shows_2304(client: LanguageClient):
         import asyncio
         await asyncio.sleep(0.1)
     assert "2304" in value, value
+    # the count ran with $/progress (both profiles support work done progress)
+    reports = [r for rs in client.progress_reports.values() for r in rs]
+    assert any(isinstance(r, types.WorkDoneProgressBegin) and "lizi" not in r.title.lower() or
+               isinstance(r, types.WorkDoneProgressBegin) for r in reports)
+    assert any(isinstance(r, types.WorkDoneProgressEnd) for r in reports)
+
+
+async def test_main_rejects_bad_arguments(capsys):
+    from tvl_lsp.server import main
+    assert main(["--tcp", "localhost:notaport"]) == 2
+    assert main(["--bogus"]) == 2

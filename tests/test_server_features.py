@@ -245,3 +245,22 @@ async def test_positions_follow_the_negotiated_encoding(client: LanguageClient):
         text_document=tdi(uri), position=types.Position(line=0, character=col + 1)))
     assert locs[0].range.start.character == col
     assert locs[0].range.end.character == col + units("Böse")
+
+
+async def test_watched_model_change_on_disk_rechecks_the_open_launch_file(client: LanguageClient):
+    lpath = client.ws / "src/turtlerand/launch/generic_alt.launch"
+    mpath = client.ws / "src/turtlerand/launch/generic_alt.tvl"
+    luri = open_doc(client, lpath)
+    ds = await diagnostics(client, luri, lambda ds: "missing-arg" not in codes(ds))
+    assert "missing-arg" not in codes(ds)
+    original = mpath.read_text()
+    mpath.write_text(original.replace("opt Multiplexer", "opt Multiplexer,\n    opt Brand_new"))
+    try:
+        client.workspace_did_change_watched_files(types.DidChangeWatchedFilesParams(changes=[
+            types.FileEvent(uri=mpath.as_uri(), type=types.FileChangeType.Changed)]))
+        ds = await diagnostics(client, luri, lambda ds: any("Brand_new" in d.message for d in ds))
+        assert any("Brand_new" in d.message for d in ds), [d.message for d in ds]
+    finally:
+        mpath.write_text(original)
+        client.workspace_did_change_watched_files(types.DidChangeWatchedFilesParams(changes=[
+            types.FileEvent(uri=mpath.as_uri(), type=types.FileChangeType.Changed)]))

@@ -176,3 +176,23 @@ def test_signed_number_glued_to_minus_is_explained():
     ds = diags("root A { int x; x-1 > 0; }")
     assert ds[0].code == "syntax-error" and "space after '-'" in ds[0].message
     assert codes("root A { int x; x - 1 > 0; x == -1; }") == []
+
+
+def test_did_you_mean_comes_with_a_fix():
+    ds = diags("root A { group allOf { Engine } int power; } A { Engin -> Engine; powr > 1; }")
+    unk = [d for d in ds if d.code == "unknown-name"]
+    assert [d.fixes[0].edits[0].new_text for d in unk] == ["Engine", "power"]
+    assert all(d.fixes[0].edits[0].span == d.span and d.fixes[0].preferred for d in unk)
+    assert [d.data["suggestions"] for d in unk] == [["Engine"], ["power"]]
+
+
+def test_enum_values_of_attributes_only_conflict_with_features_declared_before():
+    # the reference checks an attribute's enum values when the attribute is processed
+    # (attributes before the group): test2IDConflicts.tvl is accepted, test1IDConflicts.tvl not
+    assert codes("root A { enum e in {B}; group allOf { B } }") == []
+    assert "name-conflict" in codes("root A { group allOf { B } } B { enum e in {B}; }")
+
+
+def test_infix_and_before_a_parenthesis():
+    ds = diags("root A { group allOf { B, C } B and (C or B); and(B, C); B && or(C); }")
+    assert [(d.code, d.span.start.col) for d in ds] == [("infix-and-or", 32), ("infix-and-or", 39)]

@@ -96,3 +96,13 @@ def test_hundreds_of_errors_stay_bounded_and_keep_the_model():
     msgs = [d.message for d in res.diagnostics if d.code == "syntax-error"]
     assert any("too many syntax errors" in m for m in msgs)
     assert res.model.root.name == "A" and res.model.feature("B") is not None
+
+
+def test_token_limit(monkeypatch):
+    import tvl_lsp.tvl as tvl
+    monkeypatch.setattr(tvl, "MAX_TOKENS", 50)
+    res = run("root A { " + "B; " * 100 + "}")
+    assert [d.code for d in res.diagnostics] == ["file-too-large"]
+    files = {"/r/b.tvl": "B { " + "B; " * 100 + "}"}
+    res = run("root A { group allOf { B } }\ninclude(b.tvl);\n", files=files)
+    assert [(d.code, d.path) for d in res.diagnostics] == [("file-too-large", "/r/b.tvl")]

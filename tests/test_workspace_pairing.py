@@ -156,3 +156,25 @@ def test_yaml_without_configurations_is_not_a_project():
     assert parse_project("/tmp/p.yaml", "foo: 1\n", {}) is None
     assert parse_project("/tmp/p.yaml", "- a\n- b\n", {}) is None
     assert parse_project("/tmp/p.yaml", "a: [\n", {}) is None  # broken, but not a project file
+
+
+def test_two_project_files_pair_one_launch_file_with_two_models(tmp_path):
+    from tvl_lsp.check import check_paths
+    pkg = tmp_path / "src" / "bot"
+    (pkg / "launch").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package><name>bot</name></package>")
+    (pkg / "launch" / "g.launch").write_text('<launch>\n  <arg name="R"/>\n  <arg name="A"/>\n</launch>\n')
+    (pkg / "a.tvl").write_text("root R { group allOf { opt A } }\n")
+    (pkg / "b.tvl").write_text("root R { group allOf { opt A, opt B } }\n")
+    (tmp_path / "p1.yaml").write_text("configurations:\n  {lf: bot/launch/g.launch, tvl: bot/a.tvl}\n")
+    (tmp_path / "p2.yaml").write_text("configurations:\n  - {lf: bot/launch/g.launch, tvl: bot/b.tvl}\n")
+    ws = load_workspace([str(tmp_path)])
+    ps, _ = ws.pair(str(pkg / "launch" / "g.launch"))
+    assert [(os.path.basename(p.model), os.path.basename(p.source_path)) for p in ps] == \
+        [("a.tvl", "p1.yaml"), ("b.tvl", "p2.yaml")]
+    diags = check_paths([str(tmp_path)], jobs=1)
+    (miss,) = [d for d in diags if d.code == "missing-arg"]
+    assert "`B` of b.tvl" in miss.message
+    # the diagnostic says which pairing it comes from
+    assert any(r.path.endswith("p2.yaml") for r in miss.related)
+    assert not any(r.path.endswith("p1.yaml") for r in miss.related)

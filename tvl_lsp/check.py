@@ -166,13 +166,12 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
             continue
         try:
             if info is not None:
-                out += cross_check(la, info.model, info.analysis.encoding, launch_text=text, model_path=p.model)
+                cur = cross_check(la, info.model, info.analysis.encoding, launch_text=text, model_path=p.model)
+                out += [_note_pairing(d, p) for d in cur]
             else:
                 out += cross_check(la, None, None, launch_text=text)
         except Exception as exc:
             out.append(_internal(path, f"cross-check failed: {exc!r}"))
-        if p.rule != "none" and p.model is not None and info is not None:
-            out = [_note_pairing(d, p) for d in out]
     return out
 
 
@@ -447,7 +446,7 @@ def check_document(path: str, text: Optional[str] = None, read_file: Optional[Re
         out = list(pdiags) + check_launch(path, text, pairings, rts[0], read, None, timeout)
         return _dedupe_sort(d for d in out if d.path == path)
     if is_yaml(path):
-        from .workspace import find_packages, parse_project
+        from .workspace import parse_project
         ws = workspace or _workspace(_roots_for(path, roots), read)
         pf = parse_project(path, text, ws.all_packages or ws.packages)
         return _dedupe_sort(pf.diagnostics if pf else [])

@@ -103,9 +103,24 @@ def lsp_severity(sev) -> types.DiagnosticSeverity:
     return types.DiagnosticSeverity(int(sev))
 
 
+_URIS: dict[str, str] = {}
+
+
+def _uri(path: str) -> str:
+    u = _URIS.get(path)
+    if u is None:
+        if len(_URIS) > 10000:
+            _URIS.clear()
+        u = _URIS[path] = path_to_uri(path)
+    return u
+
+
 def _location(path: str, span: Span, index_of: IndexOf, encoding: str) -> types.Location:
     idx = index_of(path) or LineIndex("")
-    return types.Location(uri=path_to_uri(path), range=to_lsp_range(idx, span, encoding))
+    return types.Location(uri=_uri(path), range=to_lsp_range(idx, span, encoding))
+
+
+MAX_RELATED = 8  # related locations sent per diagnostic (explanations can be long)
 
 
 def to_lsp_diagnostic(d: Diagnostic, index: LineIndex, encoding: str, index_of: IndexOf,
@@ -114,7 +129,7 @@ def to_lsp_diagnostic(d: Diagnostic, index: LineIndex, encoding: str, index_of: 
     if d.related:
         related = [types.DiagnosticRelatedInformation(
             location=_location(r.path, r.span, index_of, encoding), message=r.message)
-            for r in d.related]
+            for r in d.related[:MAX_RELATED]]
     data: dict = {}
     if d.data:
         data.update(_jsonable(d.data))

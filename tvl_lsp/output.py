@@ -12,9 +12,9 @@ from __future__ import annotations
 import json
 import os
 import urllib.parse
-from typing import Callable, Iterable, Optional, Sequence
+from typing import Callable, Optional, Sequence
 
-from .diagnostics import CODES, Diagnostic, Related, Severity
+from .diagnostics import CODES, Diagnostic, Severity
 from .text import LineIndex, Pos, Span, to_encoding
 
 ReadFile = Callable[[str], Optional[str]]

@@ -31,13 +31,14 @@ from pygls.protocol import LanguageServerProtocol
 from pygls.protocol.language_server import lsp_method
 
 from . import __version__
-from .diagnostics import CODES, Diagnostic, Severity
+from .diagnostics import Diagnostic, Severity
 from .lsp_convert import encoding_name, path_to_uri, to_lsp_diagnostic, uri_to_path
 from .text import LineIndex
 
 log = logging.getLogger("tvl_lsp.server")
 
 LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".test")
+MAX_DIAGNOSTICS = 1000  # per document: beyond this an editor is no help anyway
 SEVERITIES = {"error": Severity.ERROR, "warning": Severity.WARNING,
               "information": Severity.INFORMATION, "info": Severity.INFORMATION, "hint": Severity.HINT}
 
@@ -294,7 +295,7 @@ class TvlLanguageServer(LanguageServer):
 
     async def parsed(self, path: str):
         """The parsed document (TvlResult / LaunchAnalysis) for the current text of ``path``."""
-        from .features import checks, _facts  # noqa: F401
+        from .features import checks
         from .server import file_kind as _fk
         text = self.read_file(path)
         kind = _fk(path)
@@ -376,7 +377,9 @@ class TvlLanguageServer(LanguageServer):
             async def compute():
                 try:
                     cfut = self.proc_pool.submit(_facts.compute_model_facts, model_path, sources, budget)
-                    facts = await asyncio.wait_for(asyncio.wrap_future(cfut), budget + 30)
+                    afut = asyncio.wrap_future(cfut)
+                    afut.add_done_callback(_consume)
+                    facts = await asyncio.wait_for(asyncio.shield(afut), budget + 30)
                 except Exception as e:
                     facts = _facts.ModelFacts(error=f"{type(e).__name__}: {e}")
                     self.restart_proc_pool()
@@ -409,8 +412,10 @@ class TvlLanguageServer(LanguageServer):
             return self.cache[key]
         budget = self.settings.time_budget
         cfut = self.proc_pool.submit(_facts.count_under, model_path, sources, formula, budget)
+        afut = asyncio.wrap_future(cfut)
+        afut.add_done_callback(_consume)
         try:
-            n = await asyncio.wait_for(asyncio.shield(asyncio.wrap_future(cfut)), wait or budget + 5)
+            n = await asyncio.wait_for(asyncio.shield(afut), wait or budget + 5)
         except asyncio.TimeoutError:
             return None
         except Exception:
@@ -449,7 +454,8 @@ class TvlLanguageServer(LanguageServer):
         with self._proc_lock:
             if self._proc_pool is None:
                 import multiprocessing as mp
-                self._proc_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"))
+                self._proc_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
+                                                         initializer=_worker_init)
             return self._proc_pool
 
     @property
@@ -457,7 +463,8 @@ class TvlLanguageServer(LanguageServer):
         with self._proc_lock:
             if self._check_pool is None:
                 import multiprocessing as mp
-                self._check_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"))
+                self._check_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
+                                                          initializer=_worker_init)
             return self._check_pool
 
     def restart_check_pool(self) -> None:
@@ -536,22 +543,27 @@ class TvlLanguageServer(LanguageServer):
             budget = self.settings.time_budget
             texts = {d.path: d.text for d in self.docs.values()}
             running = self._check_running.get(uri)
-            if running is not None and not running[0].done():
-                if time.monotonic() - running[1] > 1.0:
-                    # stale work on an old text: stop it rather than queue behind it
+            if running is not None and not running.done():
+                # one check per document at a time: wait for the one on an older text (each
+                # newer keystroke cancels this wait, so only the latest text is checked next)
+                try:
+                    await asyncio.wait_for(asyncio.shield(running), budget + 10)
+                except asyncio.TimeoutError:
+                    log.warning("a check of %s hangs: restarting the check process", path)
                     self.restart_check_pool()
-                else:
-                    try:
-                        await asyncio.wait_for(asyncio.shield(asyncio.wrap_future(running[0])), 1.0)
-                    except Exception:
-                        pass
-                    if self._generation.get(uri) != generation:
-                        return
+                except asyncio.CancelledError:
+                    raise
+                except Exception:
+                    pass
+                if self._generation.get(uri) != generation:
+                    return
             try:
                 cfut = self.check_pool.submit(checks.full_check_worker, kind, path, text, texts,
                                               self.roots_for(path), budget, self.epoch)
-                self._check_running[uri] = (cfut, time.monotonic())
-                diags = await asyncio.wait_for(asyncio.wrap_future(cfut), timeout=budget + 10)
+                afut = asyncio.wrap_future(cfut)
+                afut.add_done_callback(_consume)
+                self._check_running[uri] = afut
+                diags = await asyncio.wait_for(asyncio.shield(afut), timeout=budget + 10)
             except asyncio.TimeoutError:
                 log.warning("check of %s ran out of its time budget", path)
                 self.restart_check_pool()
@@ -610,13 +622,21 @@ class TvlLanguageServer(LanguageServer):
             return []
         out = []
         enc = self.encoding
+        memo: dict[str, Optional[LineIndex]] = {doc.path: doc.index}
+
+        def index_of(p: str) -> Optional[LineIndex]:
+            if p not in memo:
+                memo[p] = self.index_of(p)
+            return memo[p]
         for d in res.diagnostics:
-            if d.path and Path(d.path) != Path(doc.path):
+            if d.path and d.path != doc.path and Path(d.path) != Path(doc.path):
                 continue
             sev = self.settings.severity(d)
             if sev is None:
                 continue
-            out.append(to_lsp_diagnostic(d, doc.index, enc, self.index_of, sev))
+            out.append(to_lsp_diagnostic(d, doc.index, enc, index_of, sev))
+            if len(out) >= MAX_DIAGNOSTICS:
+                break
         return out
 
     def publish(self, uri: str) -> None:
@@ -671,6 +691,20 @@ class TvlLanguageServer(LanguageServer):
             pass
 
 
+def _worker_init() -> None:
+    """Worker processes (checks, counts) yield the CPU to the process answering the editor."""
+    try:
+        os.nice(10)
+    except (OSError, AttributeError):
+        pass
+
+
+def _consume(fut) -> None:
+    """Retrieve a future's exception so that asyncio does not log it as never retrieved."""
+    if not fut.cancelled():
+        fut.exception()
+
+
 def _kill_pool(pool) -> None:
     if pool is None:
         return
@@ -680,7 +714,7 @@ def _kill_pool(pool) -> None:
     except Exception:
         pass
     try:
-        pool.shutdown(wait=False, cancel_futures=True)
+        pool.shutdown(wait=True, cancel_futures=True)  # quick: its processes are gone
     except Exception:
         pass
 
@@ -734,8 +768,18 @@ def main(argv: list[str] | None = None) -> int:
     if argv and argv[0] in ("-h", "--help"):
         print(__doc__)
         return 0
-    logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING"), stream=sys.stderr)
+    logfile = os.environ.get("TVL_LSP_LOGFILE")
+    if logfile:
+        logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING"), filename=logfile)
+    else:
+        logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING"), stream=sys.stderr)
     server = create_server()
+    # parsed models are large, long-lived object graphs: collect the young generation less
+    # often and keep start-up objects out of full collections (fewer, shorter GC pauses)
+    import gc
+    gc.collect()
+    gc.freeze()
+    gc.set_threshold(20000, 20, 50)
     if os.environ.get("TVL_LSP_WATCHDOG"):
         _start_watchdog(os.environ["TVL_LSP_WATCHDOG"])
     if argv and argv[0] == "--stdio":

@@ -46,7 +46,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Callable, Iterable, Optional
 
-from .diagnostics import Diagnostic, Related, Severity, register
+from .diagnostics import Diagnostic, Severity, register
 from .text import LineIndex, Pos, Span
 
 ReadFile = Callable[[str], Optional[str]]

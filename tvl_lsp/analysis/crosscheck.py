@@ -13,20 +13,29 @@ are the model's, see :func:`tvl_lsp.check.check_model`):
 - ``unmatched-arg``: a top-level ``<arg>`` naming no feature (the closest feature suggested);
 - every load-time error fact of the launch front end (``undefined-arg``, ``duplicate-arg``,
   ``unset-arg``, ``invalid-condition``, ``duplicate-node``, ...) whose condition holds in some
-  product of the model, with a witness; facts no product can trigger are dropped;
+  product of the model, with a witness; facts no product can trigger are dropped; a fact inside
+  an included file is reported on the ``<include>`` of this file (related: where it is); an
+  "unset" arg whose every declaration has a default (whose evaluation failed, e.g. an unset
+  ``$(env)``: roslaunch stops there, and that is reported) is not reported again;
+- an ``undefined-arg`` message also names the further undeclared ``$(arg)`` of the same value
+  (roslaunch, and the launch front end, stop at the first);
 - ``dead-element``: an element that no product loads (only the topmost of a dead subtree);
 - ``constant-condition``: an ``if`` / ``unless`` with the same value in every product where it is
   evaluated (i.e. where the element's parent is loaded); not reported inside dead elements.
 
 Feature args map to features by name (a feature's short name, or its long name when the short
-one is ambiguous).  Args that name no feature — and every arg of a launch file without a
-model — are free booleans.  A *witness* is a product with the fewest selected features (free
+one is ambiguous).  Top-level args that name no feature — and, in a launch file without a
+model, its top-level args (see :func:`tvl_lsp.check.free_top_args`) — are free booleans.  A *witness* is a product with the fewest selected features (free
 args counted too) in which the problem shows, given as name -> bool over every feature and free
-top-level arg, ready to be passed to roslaunch as ``name:=true|false``.
+top-level arg, ready to be passed to roslaunch as ``name:=true|false``.  roslaunch stops at the
+first error it meets, so the witness of a fact is, when there is one, the smallest product in
+which no earlier error fact holds (facts come in roslaunch's processing order): run with it,
+roslaunch raises that very error.  Among the smallest, the witness is canonical (features
+declared first are preferred), whatever was asked before.
 
 The SAT questions go to :class:`PairLogic`: one incremental solver per pairing over the model's
-CNF (``tvl_lsp.analysis.encode``) plus a Tseitin encoding of each queried formula behind an
-activation literal, and a totalizer over the product variables for the smallest witness.  A
+CNF (``tvl_lsp.analysis.encode``) plus a Tseitin encoding of each queried formula, asserted
+through an assumption, and a totalizer over the product variables for the smallest witness.  A
 fresh PairLogic per pairing keeps the answers independent of what was asked before, so the
 output is the same whether files are checked serially or in parallel.
 """
@@ -319,37 +328,36 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
     path = launch.path
     model_name = None
     if model is not None:
-        import os
         model_name = os.path.basename(model_path or model.path)
         if encoding is None:
             from .encode import encode
             encoding = encode(model)
 
     feature_args = list(launch.feature_args)
-    matched: dict[str, object] = {}     # arg name -> feature
-    free: list[str] = []                # feature args naming no feature (free booleans)
     free_args = list(getattr(launch, "free_args", None) or [])
 
     if model is not None and encoding is not None:
         features = list(encoding.features)
-        by_arg = {}
+        by_arg = {}   # arg name -> feature
         for a in feature_args:
             f = encoding.feature_by_name(a.name)
             if f is not None and a.name not in by_arg:
                 by_arg[a.name] = f
-        matched = by_arg
         matched_features = set(id(f) for f in by_arg.values())
         unmatched_feature_names = [encoding.name_of(f) for f in features if id(f) not in matched_features]
         all_feature_names = [encoding.name_of(f) for f in features]
         for a in feature_args:
             if a.name in by_arg:
                 continue
-            sug = _closest(a.name, unmatched_feature_names) or _closest(a.name, all_feature_names)
+            sug = _closest(a.name, unmatched_feature_names)
+            also = None if sug else _closest(a.name, all_feature_names)
             msg = f"arg `{a.name}` names no feature of {model_name}"
             fixes = []
             if sug:
                 msg += f"; did you mean `{sug}`?"
                 fixes = [Fix(f"Rename to `{sug}`", (TextEdit(path, a.name_span, sug),), preferred=True)]
+            elif also:
+                msg += f" (`{also}` already has its arg)"
             else:
                 msg += " (in a generic launch file the top-level args are exactly the features; "\
                        "move other args into a <group>)"
@@ -390,6 +398,33 @@ def _when(cond: fm.Formula, witness: dict[str, bool]) -> str:
     if cond == fm.TRUE:
         return f" (in every product; e.g. {_selected(witness)})"
     return f" (when {_cond_text(cond)}; e.g. in the product {_selected(witness)})"
+
+
+def _undeclared_after_first(launch, known: set[str]) -> dict:
+    """``$(arg a) $(arg b)`` with neither declared: roslaunch stops at ``a`` (and the launch
+    front end, like it, reports only ``a``), but ``b`` is just as undeclared.  Returns
+    span of the reported ``$(arg a)`` -> the later undeclared names of the same value, for args
+    this file declares nowhere and that are not features / free args (the only args a command
+    line sets in a product), so that the message of ``a`` can name them."""
+    out: dict = {}
+    reported = [f for f in launch.facts if f.code in ("undefined-arg", "unset-arg") and f.path == launch.path]
+    if not reported:
+        return out
+    for e in launch.elements:
+        if e.path != launch.path or getattr(e, "include_depth", 0) != 0:
+            continue
+        for attr in e.attrs.values():
+            subs = [x for x in e.substitutions if x.attr == attr.name and x.kind == "arg" and len(x.args) == 1]
+            firsts = [f for f in reported if any(f.span == x.span for x in subs)]
+            if not firsts:
+                continue
+            first = min(firsts, key=lambda f: f.span.start)
+            later = [x.args[0] for x in subs if x.span.start > first.span.start and x.args[0] not in known
+                     and "$" not in x.args[0] and not any(f.span == x.span for f in reported)]
+            if later:
+                out.setdefault(first.span, [])
+                out[first.span] += [n for n in later if n not in out[first.span]]
+    return out
 
 
 def _include_anchors(launch):
@@ -433,6 +468,9 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
             decls.setdefault(e.attrs["name"].value, []).append(e)
     valued = {n for n, es in decls.items() if all("default" in e.attrs or "value" in e.attrs for e in es)}
     anchor = _include_anchors(launch)
+    declared = {e.attrs["name"].value for e in launch.elements
+                if e.tag == "arg" and "name" in e.attrs and e.path == launch.path}
+    also_undeclared = _undeclared_after_first(launch, declared | {n for n, _ in logic.names})
     for fact in launch.facts:
         if fact.code in ("unset-arg", "include-arg-no-value") and fact.path == launch.path:
             m = _MISSING_NAME.search(fact.message) or _NO_VALUE_NAME.search(fact.message)
@@ -459,6 +497,11 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
                     msg += f"; did you mean `{sug}`?"
                     data["suggestion"] = sug
                 data["arg"] = name
+            for other in also_undeclared.get(fact.span, []) if fact.path == launch.path else []:
+                sug2 = _closest(other, [n for n in known if n != other])
+                msg += (f"; `$(arg {other})` in the same value is not declared either"
+                        + (f" (did you mean `{sug2}`?)" if sug2 else "")
+                        + ": roslaunch stops at the first")
         path, span = fact.path, fact.span
         if path != launch.path:
             # an error inside an included file, for the args this file passes: reported on the

@@ -75,6 +75,8 @@ def main(argv: Optional[list[str]] = None) -> int:
         from ..output import render
         from ..workspace import default_read_file
         select, ignore = _codes(ns.select), _codes(ns.ignore)
+        from .explain import load_codes
+        load_codes()   # the front ends register their codes when imported (SARIF's rules use them)
         unknown = sorted((select | ignore) - set(CODES))
         if unknown:
             import difflib

@@ -19,18 +19,19 @@ DOC_CANDIDATES = (
 
 
 def load_codes() -> dict:
-    """Import every module that registers codes, then return the catalogue."""
-    from .. import check  # noqa: F401  (imports the pipeline)
-    from ..analysis import crosscheck, engine, encode  # noqa: F401
-    from .. import launch, tvl, workspace  # noqa: F401
-    try:
-        from ..tvl import build  # noqa: F401
-    except Exception:
-        pass
-    try:  # the configuration tools register codes too, when present
-        from ..analysis import configure  # noqa: F401
-    except Exception:
-        pass
+    """Import every module that may register codes, then return the catalogue."""
+    import importlib
+    import pkgutil
+
+    import tvl_lsp
+    for m in pkgutil.walk_packages(tvl_lsp.__path__, "tvl_lsp."):
+        if m.name in ("tvl_lsp.__main__", "tvl_lsp.server") or ".features" in m.name \
+                or m.name.startswith("tvl_lsp.commands"):
+            continue
+        try:
+            importlib.import_module(m.name)
+        except Exception:  # a module that cannot load here registers nothing we could check
+            pass
     from ..diagnostics import CODES
     return CODES
 

@@ -52,8 +52,6 @@ def model_of(ls, path: str) -> str:
 
 
 async def _in_worker(ls, fn, *args, title: Optional[str] = None):
-    loop = asyncio.get_running_loop()
-
     async def run():
         return await asyncio.wrap_future(ls.proc_pool.submit(fn, *args))
     if title:

@@ -8,7 +8,7 @@ import re
 from lsprotocol import types
 
 from ..lsp_convert import to_lsp_range
-from ..text import LineIndex, Pos, Span, to_encoding
+from ..text import LineIndex, Span, to_encoding
 from ..tvl import model as M
 from . import _facts as F
 

@@ -54,6 +54,10 @@ def register(ls) -> None:
         ls.restart_check_pool()
         ls.executor.shutdown(wait=False, cancel_futures=True)
 
+    @ls.feature(types.EXIT)
+    def exit_(ls, params=None):
+        shutdown(ls)  # (again, if the client skipped ``shutdown``): exit must not wait for a count
+
     @ls.feature(types.WORKSPACE_DID_CHANGE_CONFIGURATION)
     async def did_change_configuration(ls, params: types.DidChangeConfigurationParams):
         if isinstance(params.settings, dict) and params.settings:

@@ -15,11 +15,11 @@ from typing import Callable, Optional
 
 from ..diagnostics import Diagnostic, Fix, Severity, TextEdit, register
 from . import model
-from .lexer import Tok, tokenize
+from .lexer import Tok, TooManyTokens, tokenize
 from .model import Model
 from .parser import SourceMap, parse_tokens
 
-__all__ = ["parse_model", "TvlResult", "Model", "model", "MAX_FILE_SIZE"]
+__all__ = ["parse_model", "TvlResult", "Model", "model", "MAX_FILE_SIZE", "MAX_TOKENS"]
 
 E, W = Severity.ERROR, Severity.WARNING
 C_SYNTAX = register("syntax-error", E, "the text does not follow the TVL grammar", "tvl")
@@ -34,6 +34,7 @@ C_TOO_DEEP = register("nesting-too-deep", E, "nesting deeper than the checker an
 C_TOO_LARGE = register("file-too-large", E, "a file too large to analyse", "tvl")
 
 MAX_FILE_SIZE = 5 * 1024 * 1024  # ~400,000 lines of a typical model; parsing it takes seconds
+MAX_TOKENS = 1_000_000  # ~400,000 lines of a typical model; more would take too long
 MAX_INCLUDE_DEPTH = 32
 _TYPE_KWS = {"INTK", "REALK", "BOOL", "ENUM"}
 
@@ -77,7 +78,10 @@ def _parse_model(text: str, path: str, read_file) -> TvlResult:
     smap = SourceMap()
     mdl.sources[path] = text
     toks: list[Tok] = []
-    _load(text, path, smap, toks, diags, mdl, read, [os.path.abspath(path)], 0)
+    try:
+        _load(text, path, smap, toks, diags, mdl, read, [os.path.abspath(path)], 0)
+    except TooManyTokens:
+        return TvlResult(mdl, diags)
     _departures(toks, smap, diags)
     items, issues = parse_tokens(toks, smap)
     for iss in issues:
@@ -111,7 +115,12 @@ def _load(text, path, smap: SourceMap, out: list[Tok], diags, mdl: Model, read, 
                                 f"file is {len(text) // (1024 * 1024)} MB; models larger than "
                                 f"{MAX_FILE_SIZE // (1024 * 1024)} MB are not analysed"))
         return
-    toks, lex_errors = tokenize(text)
+    try:
+        toks, lex_errors = tokenize(text, max_tokens=max(0, MAX_TOKENS - len(out)))
+    except TooManyTokens:
+        diags.append(Diagnostic(C_TOO_LARGE, E, path, smap.span(base, base),
+                                f"the model has more than {MAX_TOKENS:,} tokens; it is not analysed"))
+        raise
     for le in lex_errors[:50]:
         s, e = base + le.start, base + le.end
         if le.kind == "illegal-character":
@@ -164,9 +173,12 @@ def _departures(toks: list[Tok], smap: SourceMap, diags: list[Diagnostic]) -> No
     n = len(toks)
     for i, t in enumerate(toks):
         if t.type in ("ANDAGG", "ORAGG"):
-            nxt = toks[i + 1].type if i + 1 < n else None
             prev = toks[i - 1].type if i > 0 else None
-            if nxt != "LPAR" and prev in ("ID", "RPAR", "INT", "REAL", "TRUE", "FALSE", "THIS", "PARENT", "ROOT", "RBRACE"):
+            # after an operand, 'and'/'or' can only be meant as infix operators (an aggregate
+            # call there would be a syntax error anyway): 'A and (B || C)' included
+            nxt = toks[i + 1].type if i + 1 < n else None
+            if (prev in ("ID", "RPAR", "RBRACK", "INT", "REAL", "TRUE", "FALSE", "THIS", "PARENT", "ROOT")
+                    or (prev == "RBRACE" and nxt != "LPAR")):  # '}' ends a set, or a block
                 rep = "&&" if t.type == "ANDAGG" else "||"
                 sp = smap.span(t.start, t.end)
                 p = smap.path(t.start)

@@ -101,11 +101,11 @@ class ModelBuilder:
 
     @staticmethod
     def _close(name: str, candidates: Iterable[str]) -> list[str]:
-        return difflib.get_close_matches(name, sorted(set(candidates)), n=3, cutoff=0.6)
+        return difflib.get_close_matches(name, sorted(set(candidates) - {name}), n=3, cutoff=0.6)
 
     @staticmethod
     def _suggest(name: str, candidates: Iterable[str]) -> str:
-        close = difflib.get_close_matches(name, sorted(set(candidates)), n=3, cutoff=0.6)
+        close = difflib.get_close_matches(name, sorted(set(candidates) - {name}), n=3, cutoff=0.6)
         if not close:
             return ""
         return " Did you mean " + " or ".join(f"'{c}'" for c in close) + "?"
@@ -432,7 +432,7 @@ class ModelBuilder:
                           related=[Related(prev.path, prev.feature.name_span, "the first one")])
                 continue
             child = self._new_feature(name, nt.start, nt.end, rc.start, rc.end, f)
-            gc = m.GroupChild(child, rc.optional, False, self.sp(rc.start, rc.end), self.smap.path(rc.start))
+            gc = m.GroupChild(child, rc.optional, False, child.span, child.path)
             names[name] = gc
             g.children.append(gc)
             if rc.body is not None:
@@ -849,6 +849,9 @@ class ModelBuilder:
             n.target = evs[0] if evs else None
             pts.append(n.target)
             n.enum_fallback = True
+            if n.target is None:  # for a "did you mean" if it turns out to be used as something else
+                n.fallback_candidates = ([x.name for x in cur.attributes] if cur is not None else []) \
+                    + list(self.constants) + list(self.table)
             return "enum"
         # dotted names
         i0 = 1
@@ -994,12 +997,8 @@ class ModelBuilder:
         tb = t.split(":")[0]
         ok = (tb == want) or (want == "num" and tb in ("int", "real"))
         if not ok:
-            if (isinstance(node, m.Name) and getattr(node, "enum_fallback", False) and node.target is None
-                    and want == "bool"):
-                self.diag_at(C_UNKNOWN, node.path, node.span,
-                             f"no feature, attribute, constant or enum value is named '{node.text}'."
-                             + self._suggest(node.text, list(self.table.keys()) + list(self.constants.keys())),
-                             data={"name": node.text, "suggestions": self._close(node.text, list(self.table.keys()) + list(self.constants.keys()))})
+            if self._unresolved(node):
+                self._report_unresolved(node)
             else:
                 self._bad(node, f"{ctx} expects {'a number' if want == 'num' else 'a boolean' if want == 'bool' else want}, "
                                 f"but this is {self._tname(t)}")
@@ -1057,6 +1056,10 @@ class ModelBuilder:
             if op in ("==", "!="):
                 if l.type is None or r.type is None:
                     return "bool"
+                for side, other in ((l, r), (r, l)):
+                    if self._unresolved(side) and not other.type.startswith("enum"):
+                        self._report_unresolved(side)
+                        return "bool"
                 self._unify(node, l.type, r.type, f"'{op}'")
                 self._domain_compare(l, r)
                 self._domain_compare(r, l)
@@ -1068,6 +1071,24 @@ class ModelBuilder:
         if isinstance(node, m.Aggregate):
             return self._aggregate(node, cur)
         return None
+
+    @staticmethod
+    def _unresolved(node) -> bool:
+        """A single name the reference would read as an enum value, though no enum has it."""
+        return isinstance(node, m.Name) and getattr(node, "enum_fallback", False) and node.target is None
+
+    def _report_unresolved(self, node: m.Name) -> None:
+        if node.text in self.table:
+            self.diag_at(C_UNKNOWN, node.path, node.span,
+                         f"'{node.text}' is a feature, but TVL reads a name that does not begin with an "
+                         f"upper-case letter as an attribute or an enum value: rename the feature to use it "
+                         f"in a constraint", data={"name": node.text})
+            return
+        cands = getattr(node, "fallback_candidates", None) or (list(self.table) + list(self.constants))
+        self.diag_at(C_UNKNOWN, node.path, node.span,
+                     f"no feature, attribute, constant or enum value is named '{node.text}'."
+                     + self._suggest(node.text, cands),
+                     data={"name": node.text, "suggestions": self._close(node.text, cands)})
 
     def _unify(self, node, a: str, b: str, ctx: str) -> Optional[str]:
         ab, bb = a.split(":")[0], b.split(":")[0]

@@ -4,6 +4,8 @@
   their camel-case forms.
 - A number may carry a sign: ``-12`` is one token (so ``a-1`` is a syntax error in the reference,
   while ``a - 1`` is fine).
+- A name is made of letters, digits, ``_`` and ``$`` and may begin with a digit (``3D_Camera``):
+  the longest match wins, and a run of digits alone is a number.
 - Comments ``//`` and ``/* */`` are skipped; an unterminated block comment is reported.
 - Characters the reference does not know are reported (``illegal-character``).
 """
@@ -45,7 +47,7 @@ _TOKEN_RE = re.compile(
   | (?P<int>-?[0-9]+(?![\w$]))
   | (?P<string>"[^"]*")
   | (?P<ustring>")
-  | (?P<id>[^\W\d][\w$]*|\$[\w$]*)
+  | (?P<id>[\w$]+)
   | (?P<op><->|->|<-|&&|\|\||==|!=|>=|<=|\.\.|[!><+\-*/\[\],(){}.?:;])
   | (?P<bad>[^\w\s$"/\[\](){}.,;:?!<>=&|+\-*]+|\S)
     )
@@ -70,7 +72,12 @@ class LexError:
     text: str
 
 
-def tokenize(text: str, keep_comments: bool = False) -> tuple[list[Tok], list[LexError]]:
+class TooManyTokens(Exception):
+    pass
+
+
+def tokenize(text: str, keep_comments: bool = False, max_tokens: int = 0) -> tuple[list[Tok], list[LexError]]:
+    """Tokens and lexical errors of ``text``; raises TooManyTokens past ``max_tokens`` (if > 0)."""
     toks: list[Tok] = []
     errors: list[LexError] = []
     append = toks.append
@@ -123,6 +130,8 @@ def tokenize(text: str, keep_comments: bool = False) -> tuple[list[Tok], list[Le
             if len(errors) > 200:
                 break
         pos = end
+        if max_tokens and len(toks) > max_tokens:
+            raise TooManyTokens(len(toks))
     if bad_start >= 0:
         errors.append(LexError("illegal-character", bad_start, bad_end, text[bad_start:bad_end]))
     return toks, errors

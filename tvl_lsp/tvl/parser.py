@@ -148,25 +148,14 @@ class SyntaxIssue:
 # ---------------------------------------------------------------- lark plumbing
 
 class _ListLexer(Lexer):
-    """Feeds lark the tokens we lexed ourselves (``parse`` receives a _Feed)."""
+    """Placeholder lexer: lark only builds the table and callbacks here; the tokens come from
+    :mod:`.lexer` and are fed by :func:`_run_fast` / :func:`_run_lalr`."""
 
-    def __init__(self, lexer_conf):  # noqa: D401
+    def __init__(self, lexer_conf):
         pass
 
-    def lex(self, data, *_):
-        feed = getattr(data, "text", data)
-        return iter(feed.tokens)
-
-
-class _Feed:
-    __slots__ = ("tokens",)
-
-    def __init__(self, tokens):
-        self.tokens = tokens
-
-    # lark's LexerState may call these on ``text``
-    def __len__(self):
-        return len(self.tokens)
+    def lex(self, data, *_):  # pragma: no cover - never used
+        return iter(getattr(data, "tokens", ()))
 
 
 def _s(x) -> int:
@@ -552,6 +541,29 @@ def _span(l1: int, c1: int, l2: int, c2: int) -> Span:
     return sp
 
 
+def _single_file_span(idx: LineIndex):
+    starts = idx.starts
+    n = len(idx.text)
+    nl = len(starts)
+    br = _bisect_right
+    mk = _span
+
+    def span(s: int, e: int) -> Span:
+        if s > n:
+            s = n
+        if e < s:
+            e = s
+        elif e > n:
+            e = n
+        l1 = br(starts, s) - 1
+        b = starts[l1]
+        if l1 + 1 >= nl or e < starts[l1 + 1]:
+            return mk(l1, s - b, l1, e - b)
+        l2 = br(starts, e) - 1
+        return mk(l1, s - b, l2, e - starts[l2])
+    return span
+
+
 class SourceMap:
     """Global offsets over several files (``include`` splices files textually): file ``k``'s
     text occupies ``[base_k, base_k + len)`` of one virtual address space."""
@@ -568,6 +580,13 @@ class SourceMap:
         self.paths.append(path)
         self.indexes.append(LineIndex(text))
         self.next_base = base + len(text) + 1
+        if len(self.bases) == 1:  # specialised hot paths for the one-file case
+            self.span = _single_file_span(self.indexes[0])
+            only = path
+            self.path = lambda off: only
+        else:
+            self.__dict__.pop("span", None)
+            self.__dict__.pop("path", None)
         return base
 
     def _k(self, off: int) -> int:
@@ -712,8 +731,69 @@ def _tables():
                         cb = cbs[arg]
                     d[str(sym)] = (False, origin, size, cb)
             states[st] = d
-        _TABLES = (states, pt.start_states["start"], pt.end_states["start"])
+        rows = [None] * (max(states) + 1)
+        for st, d in states.items():
+            rows[st] = d
+        _TABLES = (rows, pt.start_states["start"], pt.end_states["start"])
     return _TABLES
+
+
+def _run_fast(tokens: list[Tok], end_pos: int):
+    """The hot loop: LALR over ``tokens`` then $END; raises _SyntaxError."""
+    rows, start, end = _tables()
+    ss = [start]
+    vs: list = []
+    push_s = ss.append
+    push_v = vs.append
+    st = start
+    for tok in tokens:
+        ttype = tok.type
+        while True:
+            act = rows[st].get(ttype)
+            if act is None:
+                raise _SyntaxError(tok, {k for k in rows[st] if k.isupper()})
+            if act[0]:
+                st = act[1]
+                push_s(st)
+                push_v(tok)
+                break
+            cb = act[3]
+            if cb is None:
+                st = rows[ss[-2]][act[1]][1]
+                ss[-1] = st
+                continue
+            size = act[2]
+            if size:
+                args = vs[-size:]
+                del ss[-size:]
+                del vs[-size:]
+            else:
+                args = []
+            push_v(cb(args))
+            st = rows[ss[-1]][act[1]][1]
+            push_s(st)
+    tok = Tok("$END", "", end_pos, end_pos)
+    while True:
+        act = rows[st].get("$END")
+        if act is None or act[0]:
+            raise _SyntaxError(tok, {k for k in rows[st] if k.isupper()})
+        cb = act[3]
+        if cb is None:
+            st = rows[ss[-2]][act[1]][1]
+            ss[-1] = st
+        else:
+            size = act[2]
+            if size:
+                args = vs[-size:]
+                del ss[-size:]
+                del vs[-size:]
+            else:
+                args = []
+            push_v(cb(args))
+            st = rows[ss[-1]][act[1]][1]
+            push_s(st)
+        if st == end:
+            return vs[-1]
 
 
 def _run_lalr(tokens: list[Tok], end_pos: int, panic: bool = False):
@@ -819,7 +899,7 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
             feed = (toks if all(alive) else [t for t, a in zip(toks, alive) if a]) + extra
             budget -= len(feed)
             try:
-                items = _run_lalr(feed, end_pos)
+                items = _run_fast(feed, end_pos)
                 issues.extend(ctx.issues)
                 return items, issues
             except _SyntaxError as e:
