@@ -318,8 +318,10 @@ def main(argv=None) -> int:
         r = ours(name, args.count_timeout)
         if have_flamapy:
             upath = SHARED / "uvl" / f"{name}.uvl"
-            for op in ("configurations_number", "dead_features", "false_optional_features", "core_features"):
-                r["fl_" + op] = flamapy(args.flamapy_python, upath, op, args.timeout)
+            for op in ("dead_features", "core_features", "false_optional_features", "configurations_number"):
+                prev = [v for k, v in r.items() if k.startswith("fl_") and "Parsing failed" in v.get("error", "")]
+                # flamapy cannot read the file: every operation would fail the same way
+                r["fl_" + op] = dict(prev[0]) if prev else flamapy(args.flamapy_python, upath, op, args.timeout)
         results[name] = r
         print(name, json.dumps(r, default=str), file=sys.stderr, flush=True)
     if args.json:

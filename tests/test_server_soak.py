@@ -142,7 +142,7 @@ async def soak(client: LanguageClient, edits: int, seed: int):
 
 
 async def test_soak_fast(client: LanguageClient):
-    await soak(client, 1500, seed=7)
+    await soak(client, 1000, seed=7)
 
 
 @pytest.mark.slow

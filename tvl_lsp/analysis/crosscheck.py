@@ -396,7 +396,7 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
 
 def _when(cond: fm.Formula, witness: dict[str, bool]) -> str:
     if cond == fm.TRUE:
-        return f" (in every product; e.g. {_selected(witness)})"
+        return " (in every product)"
     return f" (when {_cond_text(cond)}; e.g. in the product {_selected(witness)})"
 
 
