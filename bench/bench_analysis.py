@@ -29,7 +29,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 SHARED = ROOT.parent / "shared" / "models"
 
-from tvl_lsp.analysis.count import count_cnf  # noqa: E402
+from tvl_lsp.analysis.count import CACHE, count_cnf  # noqa: E402
 from tvl_lsp.analysis.dimacs import dimacs_to_model, parse_dimacs  # noqa: E402
 from tvl_lsp.analysis.engine import ModelAnalysis  # noqa: E402
 from tvl_lsp.text import ZERO_SPAN  # noqa: E402
@@ -254,9 +254,17 @@ def ours(name: str, count_timeout: float) -> dict:
     text = dpath.read_text()
     # raw CNF, pyganak alone (in a child process like our big-model path, for a fair ratio)
     nv, clauses, names, _ = parse_dimacs(text)
-    out["raw_count"], out["t_raw"] = timed(lambda: count_cnf(nv, clauses, None, inprocess=False))
     (a, _), out["t_load"] = timed(lambda: (lambda an: (an, an.encoding))(ModelAnalysis(dimacs_to_model(text, str(dpath)))))
-    out["count"], out["t_count"] = timed(lambda: a.count(timeout=count_timeout))
+    # best of two, interleaved, with the count cache emptied: the machine is shared
+    raw_t, our_t = [], []
+    for _ in range(2):
+        CACHE.data.clear()
+        out["raw_count"], t = timed(lambda: count_cnf(nv, clauses, None, inprocess=False))
+        raw_t.append(t)
+        CACHE.data.clear()
+        out["count"], t = timed(lambda: a.count(timeout=count_timeout))
+        our_t.append(t)
+    out["t_raw"], out["t_count"] = min(raw_t), min(our_t)
     root = a.model.root
     (core, dead), out["t_core_dead"] = timed(lambda: (a.analyzer.core(), a.analyzer.dead()))
     out["core"] = len([f for f in core if f is not root])
@@ -303,7 +311,7 @@ def fmt_t(x):
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--flamapy-python", default=os.environ.get("FLAMAPY_PYTHON", "/tmp/flamapy-venv/bin/python"))
-    ap.add_argument("--timeout", type=float, default=120.0, help="per flamapy operation (s)")
+    ap.add_argument("--timeout", type=float, default=60.0, help="per flamapy operation (s)")
     ap.add_argument("--count-timeout", type=float, default=300.0)
     ap.add_argument("--models", default=",".join(MODELS))
     ap.add_argument("--json", default=None, help="also write the raw results here")
@@ -339,7 +347,7 @@ def main(argv=None) -> int:
 
     T = args.timeout
     print("Counts (ours: the DIMACS twin through tvl-lsp; pyganak alone: the raw CNF; both in a child "
-          "process; flamapy: the UVL twin, default BDD backend)\n")
+          "process, best of two; flamapy: the UVL twin, default BDD backend)\n")
     print("| model | features | digits | ours = pyganak alone | ours s | pyganak alone s | ratio | flamapy |")
     print("|---|---|---|---|---|---|---|---|")
     for name, r in results.items():

@@ -145,3 +145,14 @@ def test_count_command(capsys, tmp_path):
     assert count_cmd.main([str(d)]) == 0
     assert capsys.readouterr().out.strip().splitlines()[-1] == "3"
     assert count_cmd.main([str(tmp_path / "missing.tvl")]) == 2
+
+
+def test_counting_writes_nothing_on_stdout(capfd):
+    # stdout is the language server's channel: pyganak must not write there (it does for an
+    # unsatisfiable CNF, so that case never reaches it)
+    assert C.count_cnf(3, [[1], [-1, 2], [-2]], None) == 0
+    assert C.count_cnf(4, [[1, 2], [-1, 3]], [1, 2, 3], inprocess=True) == 4
+    assert C.simplify(3, [[1], [-1, 2], [-2, 3]], None) == (0, [], None)
+    assert C.simplify(3, [[1], [-1, 2, 3]], [1, 2]) == (2, [[1, 2]], [1])
+    out, _ = capfd.readouterr()
+    assert out == ""

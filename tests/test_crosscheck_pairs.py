@@ -223,3 +223,15 @@ def test_nav_pair_scopes_namespaces_and_includes():
     line = lf.read_text().splitlines()[26]
     assert line[dead.span.start.col:dead.span.end.col].startswith("<include")
     assert {r.path for r in dead.related} == {str(PAIRS / "nav/nav.tvl")}
+    # explained by the model's part that excludes it
+    assert "Because: constraint `Mapping -> !Localization;`" in dead.message
+    assert any("Mapping -> !Localization" in r.message for r in dead.related)
+
+
+def test_missing_arg_points_at_a_feature_arg_hidden_in_a_group(tmp_path):
+    (tmp_path / "r.tvl").write_text("root R { group allOf { opt A } }\n")
+    (tmp_path / "r.launch").write_text('<launch>\n  <arg name="R"/>\n  <group>\n    <arg name="A" default="true"/>\n'
+                                       '  </group>\n</launch>\n')
+    (d,) = check_paths([str(tmp_path)], jobs=1)
+    assert d.code == "missing-arg" and d.data == {"feature": "A"}
+    assert "on line 4 is inside <group>" in d.message

@@ -194,3 +194,55 @@ async def test_configurator_commands(client: LanguageClient):
     assert len(lst["products"]) == 5 and all("Gmapping" in p for p in lst["products"])
     r4 = await run("tvl-lsp.reset")
     assert r4["remaining"] == 2304
+
+
+async def test_tvl_quick_fixes_for_grammar_and_unknown_names(client: LanguageClient):
+    path = client.ws / "src/turtlerand/launch/generic_alt.tvl"
+    text = path.read_text().replace("Turtlesim {", "Turtlesim {\n  Telop -> Random;\n  constant int k 3;")
+    uri = open_doc(client, path, text)
+    want = {"infix-and-or", "unknown-name", "constant-keyword"}
+    diags = await diagnostics(client, uri, lambda ds: want <= set(codes(ds)))
+    fixed = text
+    for code, title in (("infix-and-or", "Replace 'and' with '&&'"), ("unknown-name", "Change to 'Teleop'"),
+                        ("constant-keyword", "Replace 'constant' with 'const'")):
+        d = [d for d in diags if d.code == code][0]
+        acts = [a for a in _fixes(await _actions(client, uri, d)) if a.title == title]
+        assert acts, (code, [a.title for a in await _actions(client, uri, d)])
+        assert acts[0].diagnostics[0].code == code
+        fixed = apply_text_edits(fixed, acts[0].edit.changes[uri])
+    assert "Teleop -> Random;" in fixed and "const int k 3;" in fixed and "&& Random" in fixed
+
+
+async def test_diagnostics_carry_the_version_and_stale_results_are_dropped(client: LanguageClient):
+    path = client.ws / "src/turtlerand/launch/generic_split.tvl"
+    text = path.read_text()
+    uri = open_doc(client, path, text)
+    for v in range(2, 30):
+        _change_all(client, uri, text + "\n" * (v % 3) + ("Oops" if v % 2 else ""), v)
+    final = text + "\n" * (30 % 3) + "Oops"
+    _change_all(client, uri, final, 30)
+    diags = await diagnostics(client, uri, lambda ds: "syntax-error" in codes(ds))
+    assert "syntax-error" in codes(diags)
+    _change_all(client, uri, text, 31)
+    diags = await diagnostics(client, uri, lambda ds: "syntax-error" not in codes(ds))
+    assert "syntax-error" not in codes(diags)
+
+
+async def test_generate_every_completion_of_the_configurators_decisions(client: LanguageClient):
+    path = client.ws / "src/turtlerand/launch/generic.launch"
+    uri = open_doc(client, path)
+    await client.workspace_execute_command_async(types.ExecuteCommandParams(
+        command="tvl-lsp.include", arguments=[uri, "Teleop"]))
+    try:
+        res = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+            command="tvl-lsp.generateConfigurations",
+            arguments=[{"uri": uri, "mode": "completions", "folder": "completions"}]))
+        files = sorted(Path(f).name for f in res["files"])
+        assert files == ["generic_turtlesim-teleop-random.launch", "generic_turtlesim-teleop.launch"]
+        assert all((client.ws / "src/turtlerand/completions" / f).is_file() for f in files)
+        one = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+            command="tvl-lsp.generateConfigurations", arguments=[{"uri": uri, "mode": "one", "folder": "one"}]))
+        assert [Path(f).name for f in one["files"]] == ["generic_turtlesim-teleop.launch"]
+    finally:
+        await client.workspace_execute_command_async(types.ExecuteCommandParams(
+            command="tvl-lsp.reset", arguments=[uri]))

@@ -172,6 +172,15 @@ async def test_hover_on_launch_arg_and_element(client: LanguageClient):
     assert "Robot_state" in v and "of 2304 products" in v
 
 
+async def test_hover_on_arg_says_where_it_is_set(client: LanguageClient):
+    # generic.launch is included by configs/teleop.launch, which sets its args
+    path = client.ws / "src/turtlerand/launch/generic.launch"
+    text = path.read_text()
+    uri = open_doc(client, path, text, version=50)
+    v = await hover_text(client, uri, position_of(text, '<arg name="Teleop"', offset=12), "set by")
+    assert "configs/teleop.launch" in v and "$(arg Teleop)" in v
+
+
 async def test_hover_on_feature_shows_its_facts(client: LanguageClient):
     model = client.lizi_tvl.read_text()
     v = await hover_text(client, client.tvl_uri, position_of(model, "Gmapping", offset=1), "of 2304")

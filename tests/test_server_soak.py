@@ -127,6 +127,16 @@ async def soak(client: LanguageClient, edits: int, seed: int):
                 text_document=types.TextDocumentIdentifier(uri=uri), position=random_position(rng, text, enc)))
             await client.text_document_completion_async(types.CompletionParams(
                 text_document=types.TextDocumentIdentifier(uri=uri), position=random_position(rng, text, enc)))
+            tdi = types.TextDocumentIdentifier(uri=uri)
+            await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=tdi))
+            await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=tdi))
+            await client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(text_document=tdi))
+            p = random_position(rng, text, enc)
+            await client.text_document_code_action_async(types.CodeActionParams(
+                text_document=tdi, range=types.Range(start=p, end=p),
+                context=types.CodeActionContext(diagnostics=[])))
+            await client.text_document_definition_async(types.DefinitionParams(
+                text_document=tdi, position=random_position(rng, text, enc)))
         if i % 500 == 499:
             for u in uris:
                 st = await state(u)

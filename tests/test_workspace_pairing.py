@@ -67,11 +67,11 @@ def test_discovery_and_workspace_root():
 
 
 def test_discovery_skips_build_folders(tmp_path):
-    for d in ("src/p/launch", "build/x", "devel/y", "install/z", "node_modules/w", ".git/v"):
+    for d in ("src/p/launch", "build/x", "devel/y", "install/z", "node_modules/w", ".git/v", ".venv/u"):
         (tmp_path / d).mkdir(parents=True)
     (tmp_path / "src/p/launch/a.launch").write_text("<launch/>")
     (tmp_path / "src/p/launch/b.launch.xml").write_text("<launch/>")
-    for d in ("build/x", "devel/y", "install/z", "node_modules/w", ".git/v"):
+    for d in ("build/x", "devel/y", "install/z", "node_modules/w", ".git/v", ".venv/u"):
         (tmp_path / d / "c.launch").write_text("<launch/>")
         (tmp_path / d / "m.tvl").write_text("root R {}")
     f = discover_files([str(tmp_path)])

@@ -166,7 +166,8 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
             continue
         try:
             if info is not None:
-                cur = cross_check(la, info.model, info.analysis.encoding, launch_text=text, model_path=p.model)
+                cur = cross_check(la, info.model, info.analysis.encoding, launch_text=text, model_path=p.model,
+                                  analysis=info.analysis)
                 out += [_note_pairing(d, p) for d in cur]
             else:
                 out += cross_check(la, None, None, launch_text=text)

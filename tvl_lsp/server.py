@@ -3,6 +3,18 @@
     tvl-lsp                    serve LSP on stdio
     tvl-lsp --tcp [HOST:]PORT  serve LSP on TCP
 
+Settings (``initializationOptions`` or ``workspace/configuration`` section ``tvl-lsp``)::
+
+    {"diagnostics": {"<code>": "off" | "error" | "warning" | "information" | "hint"},
+     "count": {"timeBudget": 10},          # seconds per count / solver-backed check
+     "generate": {"folder": "configs",     # relative to the launch file's package, or absolute
+                  "limit": 100},           # files per "generate" action
+     "debounce": 0.15}                     # seconds of quiet before the solver-backed pass
+
+Commands (``workspace/executeCommand``, see ``tvl_lsp.features.commands``): ``tvl-lsp.include``,
+``tvl-lsp.exclude``, ``tvl-lsp.reset``, ``tvl-lsp.count``, ``tvl-lsp.listProducts``,
+``tvl-lsp.generateConfigurations``.
+
 The server keeps its own copy of every open document (unsaved editor text wins over disk:
 :meth:`TvlLanguageServer.read_file` consults open documents first), runs the same pure check
 pipeline as ``tvl-lsp --check`` off the event loop, and converts results to the client's
@@ -67,6 +79,19 @@ class Settings:
             return
         if "tvl-lsp" in data and isinstance(data["tvl-lsp"], dict):
             data = data["tvl-lsp"]
+        # flat keys as some clients send them: "count.timeBudget", "tvl-lsp.generate.folder"
+        nested: dict = {}
+        for k, v in data.items():
+            parts = str(k).split(".")
+            if parts[0] == "tvl-lsp":
+                parts = parts[1:]
+            if len(parts) > 1:
+                cur = nested
+                for p in parts[:-1]:
+                    cur = cur.setdefault(p, {})
+                cur[parts[-1]] = v
+        if nested:
+            data = {**{k: v for k, v in data.items() if "." not in str(k)}, **nested}
         diags = data.get("diagnostics")
         if isinstance(diags, dict):
             self.diagnostics = {str(k): str(v).lower() for k, v in diags.items()
@@ -177,6 +202,7 @@ class TvlLanguageServer(LanguageServer):
         self.parsed_cache: dict[str, tuple] = {}
         self._cache_order: list[tuple] = []
         self._facts_futures: dict[str, asyncio.Future] = {}
+        self._facts_queued: dict[str, tuple] = {}
         self.disk_cache: dict[str, tuple[float, str]] = {}
         self.progress_counter = 0
         self.epoch = 0  # bumped when files on disk or workspace folders change
@@ -365,27 +391,40 @@ class TvlLanguageServer(LanguageServer):
         sources = await self.model_sources(model_path)
         if sources is None:
             return None
-        key = ("facts", content_key(*sorted(f"{k}\0{v}" for k, v in sources.items())))
+        budget = self.settings.time_budget
+        key = ("facts", content_key(*sorted(f"{k}\0{v}" for k, v in sources.items())), budget)
         hit = self.cache.get(key)
         if hit is not None:
             return hit
+        # a count queued for an older text of this model is stale: drop it
+        old = self._facts_queued.get(model_path)
+        if old is not None and old[0] != key[1]:
+            old[1].cancel()
         fut = self._facts_futures.get(key[1])
         if fut is None:
             loop = asyncio.get_running_loop()
-            budget = self.settings.time_budget
 
             async def compute():
+                cfut = None
                 try:
                     cfut = self.proc_pool.submit(_facts.compute_model_facts, model_path, sources, budget)
+                    self._facts_queued[model_path] = (key[1], cfut)
                     afut = asyncio.wrap_future(cfut)
                     afut.add_done_callback(_consume)
                     facts = await asyncio.wait_for(asyncio.shield(afut), budget + 30)
+                except (cf.CancelledError, asyncio.CancelledError):
+                    if cfut is not None and cfut.cancelled():
+                        return _facts.ModelFacts(error="cancelled: the model changed")
+                    raise
                 except Exception as e:
                     facts = _facts.ModelFacts(error=f"{type(e).__name__}: {e}")
-                    self.restart_proc_pool()
-                if facts.error is None or "imeout" not in facts.error:
-                    self.cache[key] = facts
-                    self._remember(key)
+                    if isinstance(e, (BrokenProcessPool, asyncio.TimeoutError)):
+                        self.restart_proc_pool()
+                    return facts
+                # (a count that ran out of its budget is cached too: the same text and
+                # budget would run out again)
+                self.cache[key] = facts
+                self._remember(key)
                 return facts
 
             async def run():
@@ -692,11 +731,27 @@ class TvlLanguageServer(LanguageServer):
 
 
 def _worker_init() -> None:
-    """Worker processes (checks, counts) yield the CPU to the process answering the editor."""
+    """Worker processes (checks, counts) yield the CPU to the process answering the editor,
+    and die with it (an editor may kill the server without a ``shutdown``)."""
     try:
         os.nice(10)
     except (OSError, AttributeError):
         pass
+    parent = os.getppid()
+    try:  # Linux: SIGKILL when the parent dies
+        import ctypes
+        import signal
+        libc = ctypes.CDLL("libc.so.6", use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
+    except Exception:
+        pass
+
+    def orphan_watch():  # elsewhere (or if the parent died before prctl): poll
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent:
+                os._exit(0)
+    threading.Thread(target=orphan_watch, daemon=True).start()
 
 
 def _consume(fut) -> None:
@@ -797,7 +852,12 @@ def main(argv: list[str] | None = None) -> int:
     if argv:
         print(f"tvl-lsp: unknown arguments {' '.join(argv)} (see tvl-lsp --help)", file=sys.stderr)
         return 2
-    server.start_io()
+    try:
+        server.start_io()
+    finally:
+        # the client went away (end of input, or exit): stop the workers now
+        server.restart_proc_pool()
+        server.restart_check_pool()
     return 0
 
 

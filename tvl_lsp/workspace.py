@@ -9,7 +9,8 @@ Files
     ``*.tvl`` (models), ``*.launch`` / ``*.launch.xml`` (roslaunch files), HAROS project files
     (a ``*.yaml`` / ``*.yml`` whose top level has ``configurations``) and ``package.xml``
     (ROS packages: its ``<name>`` names the folder it is in).  The folders ``.git``, ``build``,
-    ``devel``, ``install`` and ``node_modules`` are skipped.
+    ``devel``, ``install`` and ``node_modules`` are skipped, and so are hidden folders (``.venv``,
+    ``.tox``, ...) and ``__pycache__``.
 
 Pairing a launch file with a model — the first rule that applies wins:
 
@@ -146,7 +147,8 @@ def discover_files(paths: Iterable[str]) -> Files:
         p = norm(p)
         if os.path.isdir(p):
             for dirpath, dirnames, filenames in os.walk(p, followlinks=False):
-                dirnames[:] = sorted(d for d in dirnames if d not in SKIP_DIRS)
+                dirnames[:] = sorted(d for d in dirnames if d not in SKIP_DIRS and not d.startswith(".")
+                                     and d != "__pycache__")
                 for fn in filenames:
                     _classify(os.path.join(dirpath, fn), out)
         elif os.path.isfile(p):

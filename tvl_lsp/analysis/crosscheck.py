@@ -73,6 +73,7 @@ _STRINGY = re.compile(r"""(==|!=|\bin\b)\s*['"\[]|['"]\s*(==|!=)""")
 _EVAL_ARG_REF = re.compile(r"arg\(\s*['\"]([^'\"]+)['\"]\s*\)")
 MAX_COND_TEXT = 160
 CANONICAL_MAX_VARS = 400
+MAX_EXPLAIN_FEATURES = 2000
 
 
 # ------------------------------------------------------------------ logic
@@ -322,8 +323,11 @@ def _insert_arg_fix(launch, text: Optional[str], feature: str) -> list[Fix]:
 # ------------------------------------------------------------------ the check
 
 def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str] = None,
-                model_path: Optional[str] = None, logic: Optional[PairLogic] = None) -> list[Diagnostic]:
-    """Diagnostics of ``launch`` (a LaunchAnalysis) paired with ``model`` (or alone)."""
+                model_path: Optional[str] = None, logic: Optional[PairLogic] = None,
+                analysis=None) -> list[Diagnostic]:
+    """Diagnostics of ``launch`` (a LaunchAnalysis) paired with ``model`` (or alone).
+    ``analysis``: the model's :class:`~tvl_lsp.analysis.engine.ModelAnalysis`, to explain dead
+    elements by the parts of the model that exclude them."""
     out: list[Diagnostic] = []
     path = launch.path
     model_name = None
@@ -368,10 +372,15 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             if id(f) in matched_features:
                 continue
             name = encoding.name_of(f)
+            nested = [e for e in launch.elements if e.tag == "arg" and e.path == path
+                      and "name" in e.attrs and e.attrs["name"].value == f.name]
+            hint = (f" (the <arg name=\"{f.name}\"> on line {nested[0].span.start.line + 1} is inside "
+                    f"<{nested[0].parent.tag}>: feature args are direct children of <launch>)"
+                    if nested and nested[0].parent is not None else "")
             out.append(Diagnostic(
                 MISSING_ARG, Severity.WARNING, path, root_span,
                 f"feature `{name}` of {model_name} has no top-level <arg name=\"{f.name}\"/>: "
-                f"configurations cannot select or deselect it",
+                f"configurations cannot select or deselect it{hint}",
                 related=[Related(f.path, f.name_span, f"feature `{name}` is declared here")],
                 data={"feature": f.name}, fixes=_insert_arg_fix(launch, launch_text, f.name)))
     if model is not None and encoding is not None:
@@ -387,7 +396,7 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             # a void model has no product: the model reports void-model; nothing else is true
             return out
         out += _facts(launch, logic, model_name)
-        out += _dead_and_constant(launch, logic, model_name, model is not None)
+        out += _dead_and_constant(launch, logic, model_name, model is not None, analysis)
     finally:
         if own_logic:
             logic.close()
@@ -521,7 +530,25 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
     return out
 
 
-def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], modelled: bool) -> list[Diagnostic]:
+def _explain(analysis, enc, cond: fm.Formula) -> tuple[str, list[Related]]:
+    """Why no product satisfies ``cond``: the model's parts that exclude it (engine's MUS)."""
+    if analysis is None or enc is None or enc.n_features > MAX_EXPLAIN_FEATURES:
+        return "", []
+    if any(enc.feature_by_name(n) is None for n in fm.variables(cond)):
+        return "", []
+    try:
+        elements = analysis.explain(formula=cond)
+    except Exception:
+        return "", []
+    if not elements:
+        return "", []
+    labels = [e.label for e in elements]
+    text = " Because: " + "; ".join(labels[:4]) + ("; …" if len(labels) > 4 else "") + "."
+    return text, [Related(e.path, e.span, e.label) for e in elements]
+
+
+def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], modelled: bool,
+                       analysis=None) -> list[Diagnostic]:
     out: list[Diagnostic] = []
     root = launch.root
     if root is None:
@@ -604,10 +631,11 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                 else:
                     why = (f"its condition {_cond_text(cond)} holds for no values of the file's args"
                            if cond != fm.FALSE else "its condition is false whatever the file's args")
+                because, rel = _explain(analysis, enc, cond) if modelled and cond != fm.FALSE else ("", [])
                 out.append(Diagnostic(
                     DEAD_ELEMENT, Severity.WARNING, e.path, _start_tag(e),
-                    f'{_describe_element(e)} is never loaded: {why} ({attr.name}="{attr.value}")',
-                    related=feature_related(cond), data={"condition": str(cond)}))
+                    f'{_describe_element(e)} is never loaded: {why} ({attr.name}="{attr.value}").{because}',
+                    related=feature_related(cond) + rel, data={"condition": str(cond)}))
             return
         if parent is not None and _has_cond(e):
             pc = parent.condition
@@ -623,11 +651,13 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                     else:
                         scope = "whatever the file's args" + ("" if everywhere else " wherever its parent is loaded")
                     eff = "always loads" if key == "if" else "never skips"
+                    because, rel = _explain(analysis, enc, fm.conj([pc, fm.neg(cond)])) if modelled else ("", [])
                     out.append(Diagnostic(
                         CONSTANT_CONDITION, Severity.INFORMATION, e.path, attr.value_span,
                         f'{key}="{attr.value}" is always {value} {scope}: it {eff} '
-                        f"{_describe_element(e)}, so the condition can be removed",
-                        related=feature_related(cond), data={"condition": str(cond), "value": key == "if"}))
+                        f"{_describe_element(e)}, so the condition can be removed.{because}",
+                        related=feature_related(cond) + rel,
+                        data={"condition": str(cond), "value": key == "if"}))
         for c in e.children:
             visit(c, e)
 

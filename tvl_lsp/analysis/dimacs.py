@@ -111,13 +111,24 @@ def dimacs_to_model(text: str, path: str = "model.dimacs") -> M.Model:
         group.children.append(M.GroupChild(f, True, False, zero, path))
     model.features = feats
     line_lens = [len(x) for x in text.splitlines()]
+    # one shared (immutable in practice) literal node per signed variable: the big models have
+    # 10^5 literals; literal nodes carry no span (the constraint's span is the clause's line)
+    lit_nodes: dict[int, M.Expr] = {}
+
+    def lit(x: int) -> M.Expr:
+        node = lit_nodes.get(x)
+        if node is None:
+            f = feats[abs(x)]
+            pos = lit_nodes.get(abs(x))
+            if pos is None:
+                pos = lit_nodes[abs(x)] = M.Name([f.name], target=f, path=path, type="bool")
+            node = pos if x > 0 else M.Unary("!", pos, path=path, type="bool")
+            lit_nodes[x] = node
+        return node
+
     for c, ln in zip(clauses, lines_of):
         span = Span(Pos(ln, 0), Pos(ln, line_lens[ln] if ln < len(line_lens) else 0))
-        items: list[M.Expr] = []
-        for x in c:
-            f = feats[abs(x)]
-            n = M.Name([f.name], target=f, span=span, path=path, type="bool")
-            items.append(n if x > 0 else M.Unary("!", n, span=span, path=path, type="bool"))
+        items = [lit(x) for x in c]
         root.constraints.append(M.Constraint(_or_tree(items, span, path), "plain", root, span, path))
     # feature name spans: the ``c i name`` comment line when there is one
     for ln, line in enumerate(text.splitlines()):

@@ -470,21 +470,36 @@ class Encoding:
             out.append(c)
 
     def _disjuncts(self, e: M.Expr, pos: bool, ctx) -> list[Lit]:
-        """Literals whose OR means ``e`` (``!e`` when not pos)."""
-        if isinstance(e, M.Unary) and e.op == "!":
-            return self._disjuncts(e.operand, not pos, ctx)
-        if isinstance(e, M.Binary):
-            op = _ALIAS.get(e.op, e.op)
-            if (op == "||" and pos) or (op == "&&" and not pos):
-                return self._disjuncts(e.left, pos, ctx) + self._disjuncts(e.right, pos, ctx)
-            if op in ("->", "requires") and pos:
-                return self._disjuncts(e.left, False, ctx) + self._disjuncts(e.right, True, ctx)
-            if op == "<-" and pos:
-                return self._disjuncts(e.right, False, ctx) + self._disjuncts(e.left, True, ctx)
-            if op == "excludes" and pos:
-                return self._disjuncts(e.left, False, ctx) + self._disjuncts(e.right, False, ctx)
-        x = self._blit(e, ctx)
-        return [x if pos else self.b.not_(x)]
+        """Literals whose OR means ``e`` (``!e`` when not pos).  Iterative: DIMACS clauses
+        can be long."""
+        out: list[Lit] = []
+        stack = [(e, pos)]
+        while stack:
+            e, pos = stack.pop()
+            if isinstance(e, M.Unary) and e.op == "!":
+                stack.append((e.operand, not pos))
+                continue
+            if isinstance(e, M.Binary):
+                op = _ALIAS.get(e.op, e.op)
+                if (op == "||" and pos) or (op == "&&" and not pos):
+                    stack.append((e.right, pos))
+                    stack.append((e.left, pos))
+                    continue
+                if op in ("->", "requires") and pos:
+                    stack.append((e.right, True))
+                    stack.append((e.left, False))
+                    continue
+                if op == "<-" and pos:
+                    stack.append((e.left, True))
+                    stack.append((e.right, False))
+                    continue
+                if op == "excludes" and pos:
+                    stack.append((e.right, False))
+                    stack.append((e.left, False))
+                    continue
+            x = self._blit(e, ctx)
+            out.append(x if pos else self.b.not_(x))
+        return out
 
     # ------------------------------------------------------------------ bool terms
     def _is_bool(self, e: M.Expr) -> bool:

@@ -61,8 +61,11 @@ def feature_markdown(ls, f: M.Feature, facts) -> str:
         lines.append(f"- parent: {parents}")
         g = f.parent.group
         if g is not None:
-            lines.append(f"- in the group `{F.group_text(g)}` of `{f.parent.name}`; "
-                         + ("optional (`opt`)" if f.optional else "mandatory"))
+            if g.kind == "allOf":
+                role = "optional (`opt`)" if f.optional else "mandatory (selected with its parent)"
+            else:
+                role = "optional (`opt`)" if f.optional else "counted by the group's cardinality"
+            lines.append(f"- in the group `{F.group_text(g)}` of `{f.parent.name}`: {role}")
     else:
         lines.append("- the root: selected in every product")
     if f.group is not None:
@@ -160,9 +163,53 @@ async def arg_markdown(ls, doc, analysis, name: str) -> str:
     if decls:
         lines.append(f"**arg** `{name}`")
         lines.extend(_arg_markdown(ls, decls))
+        setters = await arg_setters(ls, doc.path, name)
+        if setters:
+            lines.append("")
+            lines.append("set by the files that include this one:")
+            lines.extend(setters)
     elif f is None:
         lines.append(f"**arg** `{name}`: not declared in this file")
     return "\n".join(lines)
+
+
+MAX_SETTER_FILES = 40
+
+
+async def arg_setters(ls, launch_path: str, name: str) -> list[str]:
+    """Where ``name`` is set for ``launch_path``: the ``<arg>`` children of the workspace's
+    ``<include>`` tags that include it (e.g. the configuration launch files)."""
+    try:
+        ws = ls.workspace_model(launch_path)
+    except Exception:
+        return []
+    base = os.path.basename(launch_path)
+    target = os.path.normpath(launch_path)
+    out: list[str] = []
+    n = 0
+    for lf in ws.files.launches:
+        if os.path.normpath(lf) == target:
+            continue
+        text = ls.read_file(lf) or ""
+        if base not in text or name not in text:
+            continue
+        n += 1
+        if n > MAX_SETTER_FILES:
+            break
+        analysis = await ls.parsed(lf)
+        for inc in getattr(analysis, "includes", None) or []:
+            if not inc.file or os.path.normpath(inc.file) != target:
+                continue
+            el = inc.element
+            where = f"{_rel(ls, lf)}:{el.span.start}"
+            if "pass_all_args" in el.attrs and el.attrs["pass_all_args"].value.lower() in ("true", "1"):
+                out.append(f"- {where}: passes all its args")
+            for c in el.children:
+                if c.tag == "arg" and "name" in c.attrs and c.attrs["name"].value == name:
+                    v = c.attrs["value"].value if "value" in c.attrs else \
+                        c.attrs["default"].value if "default" in c.attrs else "(no value)"
+                    out.append(f"- {_rel(ls, lf)}:{c.span.start}: `{v}`")
+    return out[:20]
 
 
 async def launch_hover(ls, doc, pos):

@@ -133,6 +133,11 @@ def register(ls) -> None:
         for t in (ls._full_tasks.pop(uri, None),):
             if t is not None and not t.done():
                 t.cancel()
+        ls._generation.pop(uri, None)
+        ls._check_running.pop(uri, None)
+        ls.published.pop(uri, None)
+        if doc is not None:
+            ls.parsed_cache.pop(doc.path, None)
         ls.clear(uri)
         if doc is not None:
             ls.recheck_dependents(doc.path)  # they now see the disk text

@@ -1,0 +1,80 @@
+"""The server's pure pieces: position conversion, change application, settings."""
+
+from __future__ import annotations
+
+from lsprotocol import types
+
+from tvl_lsp.diagnostics import Diagnostic, Fix, Related, Severity, TextEdit
+from tvl_lsp.lsp_convert import (apply_change, from_lsp_position, to_lsp_diagnostic, to_lsp_position,
+                                 uri_to_path, path_to_uri)
+from tvl_lsp.server import Settings
+from tvl_lsp.text import LineIndex, Pos, Span
+
+
+def P(line, ch):
+    return types.Position(line=line, character=ch)
+
+
+def test_positions_in_every_encoding():
+    text = "a😀é b\r\nsecond\rthird"
+    idx = LineIndex(text)
+    # "b" is code point 4 on line 0
+    assert to_lsp_position(idx, Pos(0, 4), "utf-16").character == 5
+    assert to_lsp_position(idx, Pos(0, 4), "utf-8").character == 8
+    assert to_lsp_position(idx, Pos(0, 4), "utf-32").character == 4
+    for enc, col in (("utf-16", 5), ("utf-8", 8), ("utf-32", 4)):
+        assert from_lsp_position(idx, P(0, col), enc) == Pos(0, 4)
+    # lone CR ends a line too
+    assert from_lsp_position(idx, P(2, 2), "utf-16") == Pos(2, 2)
+
+
+def test_out_of_range_positions_are_clamped():
+    idx = LineIndex("ab\ncd")
+    assert from_lsp_position(idx, P(0, 99), "utf-16") == Pos(0, 2)
+    assert from_lsp_position(idx, P(7, 3), "utf-16") == Pos(1, 2)
+    assert to_lsp_position(idx, Pos(9, 9), "utf-16") == P(1, 2)
+
+
+def test_apply_change_handles_astral_chars_and_bad_ranges():
+    t = "x😀y\nz"
+    assert apply_change(t, types.Range(start=P(0, 1), end=P(0, 3)), "", "utf-16") == "xy\nz"
+    assert apply_change(t, types.Range(start=P(0, 1), end=P(0, 5)), "", "utf-8") == "xy\nz"
+    assert apply_change(t, types.Range(start=P(5, 0), end=P(9, 9)), "!", "utf-16") == t + "!"
+    assert apply_change(t, types.Range(start=P(1, 1), end=P(0, 0)), "", "utf-16") == ""
+    assert apply_change(t, None, "new", "utf-16") == "new"
+
+
+def test_diagnostic_conversion_keeps_code_data_and_related():
+    text = "é = $(arg X)"
+    idx = LineIndex(text)
+    d = Diagnostic("undefined-arg", Severity.ERROR, "/w/a.launch", Span.of(0, 4, 0, 12), "m",
+                   related=[Related("/w/a.launch", Span.of(0, 0, 0, 1), "here")] * 20,
+                   witness={"B": False, "A": True}, data={"feature": "X"},
+                   fixes=[Fix("f", (TextEdit("/w/a.launch", Span.of(0, 0, 0, 1), "e"),))])
+    ld = to_lsp_diagnostic(d, idx, "utf-8", lambda p: idx, Severity.HINT)
+    assert ld.code == "undefined-arg" and ld.severity == types.DiagnosticSeverity.Hint
+    assert ld.range.start.character == 5  # é is two UTF-8 bytes
+    assert ld.data["feature"] == "X" and ld.data["witness"] == {"A": True, "B": False}
+    assert 0 < len(ld.related_information) <= 8
+
+
+def test_uris_round_trip_with_spaces_and_unicode(tmp_path):
+    p = tmp_path / "a dir" / "é.launch"
+    assert uri_to_path(path_to_uri(str(p))) == str(p)
+
+
+def test_settings_from_nested_and_flat_forms():
+    s = Settings()
+    s.update({"tvl-lsp": {"diagnostics": {"missing-arg": "off", "dead-element": "HINT", "x": "bogus"},
+                          "count": {"timeBudget": 2.5}, "generate": {"folder": "gen", "limit": 7}}})
+    assert s.diagnostics == {"missing-arg": "off", "dead-element": "hint"}
+    assert (s.time_budget, s.generate_folder, s.generate_limit) == (2.5, "gen", 7)
+    d = Diagnostic("missing-arg", Severity.WARNING, "p", Span.of(0, 0, 0, 0), "m")
+    assert s.severity(d) is None
+    d.code = "dead-element"
+    assert s.severity(d) == Severity.HINT
+    d.code = "other"
+    assert s.severity(d) == Severity.WARNING
+    s2 = Settings()
+    s2.update({"tvl-lsp.count.timeBudget": 4, "generate.folder": "out"})
+    assert (s2.time_budget, s2.generate_folder) == (4.0, "out")
