@@ -128,11 +128,25 @@ class Files:
                        (self.models, self.launches, self.yamls, self.manifests)))
 
 
-def _classify(path: str, out: Files) -> None:
+def _looks_like_launch(path: str) -> bool:
+    """An ``.xml`` / ``.test`` file whose root element is ``<launch>`` (rostest files, and
+    launch files named ``*.xml``); only asked of files named explicitly on the command line."""
+    if not path.endswith((".xml", ".test")) or os.path.basename(path) == "package.xml":
+        return False
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(4096).decode("utf-8", "replace")
+    except OSError:
+        return False
+    head = re.sub(r"<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>", "", head, flags=re.S).lstrip()
+    return head.startswith("<launch") and (len(head) == 7 or not head[7].isalnum())
+
+
+def _classify(path: str, out: Files, explicit: bool = False) -> None:
     base = os.path.basename(path)
     if is_model(path):
         out.models.append(path)
-    elif is_launch(path):
+    elif is_launch(path) or (explicit and _looks_like_launch(path)):
         out.launches.append(path)
     elif is_yaml(path):
         out.yamls.append(path)
@@ -152,7 +166,7 @@ def discover_files(paths: Iterable[str]) -> Files:
                 for fn in filenames:
                     _classify(os.path.join(dirpath, fn), out)
         elif os.path.isfile(p):
-            _classify(p, out)
+            _classify(p, out, explicit=True)
     return out.dedupe()
 
 

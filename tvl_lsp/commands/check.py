@@ -72,6 +72,7 @@ def main(argv: Optional[list[str]] = None) -> int:
         ns = parser.parse_args(argv)
         from .. import check
         from ..diagnostics import CODES, Severity
+        from ..workspace import discover_files
         from ..output import render
         from ..workspace import default_read_file
         select, ignore = _codes(ns.select), _codes(ns.ignore)
@@ -120,7 +121,10 @@ def main(argv: Optional[list[str]] = None) -> int:
     n_other = len(diags) - n_err - n_warn
     if not ns.quiet:
         files = len({d.path for d in diags})
-        print(f"{n_err} error(s), {n_warn} warning(s), {n_other} note(s) in {files} file(s)", file=sys.stderr)
+        found = discover_files(paths)
+        checked = len(found.models) + len(found.launches) + len(found.yamls)
+        print(f"{n_err} error(s), {n_warn} warning(s), {n_other} note(s) in {files} file(s); "
+              f"{checked} file(s) checked", file=sys.stderr)
     if n_err or (ns.strict and n_warn):
         return 1
     return 0

@@ -42,7 +42,7 @@ def _reg(code: str, sev: Severity, summary: str) -> str:
 
 
 UNDEFINED_ARG = _reg("undefined-arg", E, "$(arg X) where X is not declared in scope")
-UNSET_ARG = _reg("unset-arg", E, "$(arg X) where X is declared without a value and nothing sets it")
+UNSET_ARG = _reg("unset-arg", W, "$(arg X) where X is declared without a value and nothing sets it")
 DUPLICATE_ARG = _reg("duplicate-arg", E, "An <arg> is declared twice in the same scope")
 ARG_ALREADY_SET = _reg("arg-already-set", E, "<arg value=...> for an arg that already has a value")
 ARG_VALUE_AND_DEFAULT = _reg("arg-value-and-default", E, "<arg> with both value and default")
