@@ -3,12 +3,14 @@ client capability profiles (pytest-lsp)."""
 
 from __future__ import annotations
 
+import sys
+
 import pytest
 import pytest_lsp
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 
-from server_helpers import (CONFIG, PROFILES, codes, copy_ws, diagnostics,
+from server_helpers import (REPO, CONFIG, PROFILES, codes, copy_ws, diagnostics,
                             install_client_handlers, open_doc, position_of, start)
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -84,3 +86,22 @@ async def test_main_rejects_bad_arguments(capsys):
     from tvl_lsp.server import main
     assert main(["--tcp", "localhost:notaport"]) == 2
     assert main(["--bogus"]) == 2
+
+
+
+async def test_counting_starts_when_the_model_is_checked(client: LanguageClient):
+    """Counting starts in the background once a model is checked, not when it is first
+    hovered: a user who opens a model whose count takes seconds and hovers its root a while
+    later sees the total at once, not "counting…"."""
+    import asyncio
+    sys.path.insert(0, str(REPO / "bench"))
+    from gen_model import generate_model
+    path = client.ws / "src" / "big.tvl"
+    path.write_text(generate_model(800))
+    uri = open_doc(client, path)
+    await diagnostics(client, uri, lambda ds: True)
+    await asyncio.sleep(15.0)
+    h = await client.text_document_hover_async(types.HoverParams(
+        text_document=types.TextDocumentIdentifier(uri=uri), position=position_of(path.read_text(), "Root", offset=1)))
+    assert h is not None
+    assert "products** in total" in h.contents.value, h.contents.value

@@ -621,8 +621,22 @@ class TvlLanguageServer(LanguageServer):
                 return  # stale: the text changed meanwhile
             self.results[uri] = CheckResult(version, "full", diags)
             self.publish(uri)
+            self.prefetch_facts(path, kind)
         except asyncio.CancelledError:
             pass
+
+    def prefetch_facts(self, path: str, kind: str) -> None:
+        """Start counting the products of the model behind ``path`` (the model itself, or the
+        models paired with a launch file) in the background, so that the first hover and the
+        code lens find the counts ready instead of saying "counting…"."""
+        try:
+            models = [path] if kind == "tvl" else list(self.models_for_launch(path))
+        except Exception:
+            log.exception("pairing failed")
+            return
+        for mp in models:
+            task = asyncio.ensure_future(self.model_facts(mp))
+            task.add_done_callback(_consume)
 
     async def wait_full(self, uri: str, timeout: float) -> Optional[CheckResult]:
         """The latest results of ``uri`` once no check of it is pending (or time runs out)."""
