@@ -285,15 +285,8 @@ class TvlLanguageServer(LanguageServer):
         return LineIndex(text) if text is not None else None
 
     def workspace_root_for(self, path: str) -> Optional[str]:
-        best = None
-        for r in self.roots:
-            try:
-                Path(path).relative_to(r)
-            except ValueError:
-                continue
-            if best is None or len(r) > len(best):
-                best = r
-        return best
+        from .features.checks import _root_for
+        return _root_for(path, self.roots)
 
     # ------------------------------------------------------------ parsed documents, workspace, facts
     def _parse_key(self, path: str, text: str) -> tuple:

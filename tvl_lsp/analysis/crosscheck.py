@@ -521,11 +521,14 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
             related = [Related(fact.path, fact.span, "the error, in the included file")] + related
             msg = f"in the included file {os.path.basename(fact.path)}: {msg}"
             path, span = launch.path, inc.span
+        # unset-arg stops roslaunch (an error fact of the load), but --check reports it as a
+        # warning (issue 5, docs/diagnostics.md): the command line may set the arg
+        sev = Severity.WARNING if fact.code == "unset-arg" else fact.severity
         if fact.condition == fm.TRUE and fact.severity >= Severity.INFORMATION:
             if path == fact.path:
-                out.append(Diagnostic(fact.code, fact.severity, path, span, msg, related=related))
+                out.append(Diagnostic(fact.code, sev, path, span, msg, related=related))
             continue
-        out.append(Diagnostic(fact.code, fact.severity, path, span,
+        out.append(Diagnostic(fact.code, sev, path, span,
                               msg + _when(fact.condition, w), related=related, witness=w, data=data))
     return out
 

@@ -204,12 +204,7 @@ def references(model: M.Model, target) -> list[tuple[str, Span]]:
         elif e.feature is target and e.part_spans:
             # the feature part of ``Feature.attr``
             out.append((e.path, e.part_spans[max(0, len(e.part_spans) - 2)]))
-    seen, uniq = set(), []
-    for p, s in out:
-        if (p, s) not in seen:
-            seen.add((p, s))
-            uniq.append((p, s))
-    return uniq
+    return list(dict.fromkeys(out))  # without repeats, in order
 
 
 def group_text(g: M.Group) -> str:

@@ -117,12 +117,7 @@ async def all_locations(ls, sym: Symbol, include_decl: bool = True) -> list[tupl
     if sym.is_feature or sym.launch_path:
         for lp in launches:
             out.extend(await launch_locations(ls, lp, sym.name))
-    seen, uniq = set(), []
-    for p, s in out:
-        if (p, s) not in seen:
-            seen.add((p, s))
-            uniq.append((p, s))
-    return uniq
+    return list(dict.fromkeys(out))  # without repeats, in order
 
 
 def _loc(ls, path: str, span: Span) -> types.Location:
