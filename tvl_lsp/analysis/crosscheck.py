@@ -437,9 +437,10 @@ def _undeclared_after_first(launch, known: set[str]) -> dict:
 
 
 def _include_anchors(launch):
-    """included file -> the first <include> element of the analysed file through which it is
-    loaded (directly or through further includes)."""
-    first: dict[str, object] = {}
+    """anchor(included file, witness) -> the first <include> element of the analysed file
+    through which it is loaded (directly or through further includes) in the witness product
+    (the first such <include> at all without a witness)."""
+    first: dict[str, list] = {}
 
     def files(inc) -> list[str]:
         out = [inc.file] if inc.file else []
@@ -452,9 +453,19 @@ def _include_anchors(launch):
         if getattr(el, "include_depth", 0) != 0 or el.path != launch.path:
             continue
         for f in files(inc):
-            first.setdefault(f, el)
-            first.setdefault(os.path.abspath(f), el)
-    return lambda path: first.get(path) or first.get(os.path.abspath(path))
+            for key in (f, os.path.abspath(f)):
+                if all(e is not el for e, _ in first.setdefault(key, [])):
+                    first[key].append((el, inc.condition))
+
+    def anchor(path, witness=None):
+        incs = first.get(path) or first.get(os.path.abspath(path)) or []
+        if witness is not None:
+            # the same file included twice: the <include> that loads it in the witness product
+            for el, cond in incs:
+                if fm.evaluate(cond, witness):
+                    return el
+        return incs[0][0] if incs else None
+    return anchor
 
 
 _NO_VALUE_NAME = re.compile(r"\('([^']+)' has none\)")
@@ -515,15 +526,17 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
         if path != launch.path:
             # an error inside an included file, for the args this file passes: reported on the
             # <include> here (the included file checked alone may well be fine)
-            inc = anchor(path)
+            inc = anchor(path, w)
             if inc is None:
                 continue
             related = [Related(fact.path, fact.span, "the error, in the included file")] + related
             msg = f"in the included file {os.path.basename(fact.path)}: {msg}"
             path, span = launch.path, inc.span
         # unset-arg stops roslaunch (an error fact of the load), but --check reports it as a
-        # warning (issue 5, docs/diagnostics.md): the command line may set the arg
-        sev = Severity.WARNING if fact.code == "unset-arg" else fact.severity
+        # warning (issue 5, docs/diagnostics.md): the command line may set the arg -- only an
+        # arg of this file, not of a file it includes (an include starts a fresh arg scope)
+        sev = (Severity.WARNING if fact.code == "unset-arg" and fact.path == launch.path
+               else fact.severity)
         if fact.condition == fm.TRUE and fact.severity >= Severity.INFORMATION:
             if path == fact.path:
                 out.append(Diagnostic(fact.code, sev, path, span, msg, related=related))
@@ -616,6 +629,10 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                 return True
             st = _start_tag(e)
             if any(s == st for s in trouble):
+                return True
+            # e.g. if-and-unless, reported on the tag name: roslaunch fails on the element
+            ts = getattr(e, "tag_span", None)
+            if ts is not None and any(s == ts for s in trouble):
                 return True
         return False
 

@@ -59,6 +59,13 @@ class NotEncodable(Exception):
     pass
 
 
+def _check_read(e: M.Expr) -> None:
+    """The parser stands a ``true`` in for an expression nested too deeply to read: encoding it
+    would make the constraint look redundant and the counts silently wrong."""
+    if getattr(e, "too_deep", False):
+        raise NotEncodable("it is nested too deeply to be read")
+
+
 @dataclass(eq=False)
 class Element:
     """A piece of the model that can take part in an explanation."""
@@ -441,6 +448,7 @@ class Encoding:
     def _assert(self, e: M.Expr, prefix: list[Lit], pos: bool, out: list[list[int]], ctx) -> None:
         """Append clauses meaning ``OR(prefix) or (e if pos else !e)``."""
         if isinstance(e, M.BoolLit):
+            _check_read(e)
             if e.value != pos:
                 c = _clean(prefix)
                 if c is not None:
@@ -529,6 +537,7 @@ class Encoding:
     def _blit(self, e: M.Expr, ctx) -> Lit:
         b = self.b
         if isinstance(e, M.BoolLit):
+            _check_read(e)
             return bool(e.value)
         if isinstance(e, M.Name):
             t = e.target
@@ -666,6 +675,7 @@ class Encoding:
         if isinstance(e, M.RealLit):
             raise NotEncodable("it uses real numbers")
         if isinstance(e, M.BoolLit):
+            _check_read(e)
             return {bool(e.value): True}
         if isinstance(e, M.Name):
             t = e.target

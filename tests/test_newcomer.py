@@ -1,0 +1,89 @@
+"""A new user's first steps: the documented commands can be run as written, the package installs
+(non-editable too) with its grammar, and its extras can be installed."""
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    tomllib = None
+
+REPO = Path(__file__).resolve().parent.parent
+DOCS = [REPO / "README.md", REPO / "bench" / "README.md", REPO / "editors" / "README-snippet.md"]
+
+
+def _commands(path: Path) -> list[str]:
+    """Shell commands of a Markdown file: lines of ```sh / ```console blocks, indented code lines
+    and inline `code` spans."""
+    text = path.read_text(encoding="utf-8")
+    out: list[str] = []
+    for block in re.findall(r"```(?:sh|console|bash)\n(.*?)```", text, re.S):
+        out += [ln.removeprefix("$ ").strip() for ln in block.splitlines() if ln.strip()]
+    out += [ln.strip() for ln in text.splitlines() if ln.startswith("    ") and not ln.startswith("     ")]
+    out += re.findall(r"`([^`\n]+)`", text)
+    return out
+
+
+@pytest.mark.skipif(tomllib is None, reason="needs tomllib (Python 3.11+)")
+def test_no_extra_requires_flamapy():
+    """flamapy 2.6 pins python-sat 0.1.x and the project needs python-sat>=1.8, so an extra with
+    flamapy (it was `bench`) makes `pip install -e '.[bench]'` fail with ResolutionImpossible;
+    bench/README.md installs flamapy into its own venv instead."""
+    project = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    assert any(d.startswith("python-sat") for d in project["dependencies"])
+    for extra, reqs in project.get("optional-dependencies", {}).items():
+        assert not [r for r in reqs if r.lower().startswith("flamapy")], extra
+
+
+def test_documented_venvs_use_python3():
+    """A fresh Debian has `python3` but no `python`: the documented commands make venvs with it
+    (the flamapy venv of bench/README.md said `python -m venv`)."""
+    bad = [(p.name, c) for p in DOCS for c in _commands(p) if re.search(r"(^|&&\s*)python -m venv", c)]
+    assert not bad, bad
+    flamapy = [c for c in _commands(REPO / "bench" / "README.md") if "flamapy-venv/bin/pip install flamapy" in c]
+    assert flamapy and all(c.startswith("python3 -m venv /tmp/flamapy-venv") for c in flamapy), flamapy
+
+
+def test_documented_pytest_runs_from_the_venv():
+    """The README installs pytest only into .venv: a bare `pytest ...` is not on a new user's PATH."""
+    bad = [(p.name, c) for p in DOCS for c in _commands(p)
+           if re.match(r"pytest\b", c) or re.search(r"&&\s*pytest\b", c)]
+    assert not bad, bad
+
+
+def test_bench_readme_scripts_exist():
+    """Every `.venv/bin/python bench/X.py` in bench/README.md names a script of the repository."""
+    scripts = {m for c in _commands(REPO / "bench" / "README.md") for m in re.findall(r"bench/[\w.]+\.py", c)}
+    assert scripts
+    assert all((REPO / s).is_file() for s in scripts), scripts
+
+
+def test_non_editable_wheel_has_the_grammar_and_checks(tmp_path):
+    """`pip install .` (not -e) builds a wheel: tvl_lsp/grammars is a symlink to ../grammars, and
+    the grammar must be in the wheel for `tvl-lsp --check` to work from it."""
+    r = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps",
+                        "--disable-pip-version-check", "-q", "-w", str(tmp_path / "dist"), str(REPO)],
+                       capture_output=True, text=True, timeout=300)
+    if r.returncode != 0 and ("No matching distribution" in r.stderr or "Could not find a version" in r.stderr):
+        pytest.skip("no setuptools for the isolated build (no package index?): " + r.stderr[-300:])
+    assert r.returncode == 0, r.stderr
+    (wheel,) = (tmp_path / "dist").glob("tvl_lsp-*.whl")
+    with zipfile.ZipFile(wheel) as z:
+        names = z.namelist()
+        assert "tvl_lsp/grammars/tvl.lark" in names, [n for n in names if "grammar" in n]
+        z.extractall(tmp_path / "site")
+    env = dict(os.environ, PYTHONPATH=str(tmp_path / "site"))
+    probe = ("import sys, tvl_lsp, tvl_lsp.cli as c; assert tvl_lsp.__file__.startswith(sys.argv[1]), tvl_lsp.__file__;"
+             " sys.argv = ['tvl-lsp', '--check', '-q', sys.argv[2]]; sys.exit(c.main())")
+    r = subprocess.run([sys.executable, "-c", probe, str(tmp_path / "site"), str(REPO / "examples")],
+                       capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "constant-condition" in r.stdout
