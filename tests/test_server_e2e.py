@@ -100,7 +100,17 @@ async def test_counting_starts_when_the_model_is_checked(client: LanguageClient)
     path.write_text(generate_model(800))
     uri = open_doc(client, path)
     await diagnostics(client, uri, lambda ds: True)
-    await asyncio.sleep(15.0)
+    # wait, without hovering, until the background count reports its end through $/progress
+    # (it never starts without the prefetch); a loaded machine only makes this slower
+    loop = asyncio.get_running_loop()
+    end = loop.time() + 90
+
+    def count_done():
+        return any(isinstance(r, types.WorkDoneProgressEnd) for rs in client.progress_reports.values()
+                   for r in rs)
+    while not count_done() and loop.time() < end:
+        await asyncio.sleep(0.2)
+    assert count_done(), "no background count ran after the model was checked"
     h = await client.text_document_hover_async(types.HoverParams(
         text_document=types.TextDocumentIdentifier(uri=uri), position=position_of(path.read_text(), "Root", offset=1)))
     assert h is not None

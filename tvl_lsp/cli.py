@@ -1,14 +1,19 @@
-"""Command line entry point.
+"""tvl-lsp: language server and checker for TVL feature models and ROS launch files.
 
-    tvl-lsp                      serve LSP on stdio (``--tcp [HOST:]PORT`` for TCP)
-    tvl-lsp --check [PATH ...]   check models and launch files (CI); see ``--check --help``
-    tvl-lsp --explain CODE       print the documentation of a diagnostic code
-    tvl-lsp count MODEL ...      exact number of products
-    tvl-lsp launch FILE a:=b ... what roslaunch would load under these args
+usage:
+  tvl-lsp                           serve LSP on stdio (--tcp [HOST:]PORT for TCP)
+  tvl-lsp --check [PATH ...]        check models, launch files and HAROS project files
+                                    (tvl-lsp --check --help for formats and options)
+  tvl-lsp --explain [CODE]          what a diagnostic code means and how to fix it
+  tvl-lsp count MODEL [--include F]... [--exclude F]... [--json]
+                                    exact number of products (MODEL: .tvl or .dimacs)
+  tvl-lsp launch FILE [name:=value ...] [--json]
+                                    what roslaunch would load from FILE under these args
+  tvl-lsp generate LAUNCH [--mode one|completions|all] ...
+                                    configuration launch files for products of the model
+  tvl-lsp --version
 
-Each sub-command lives in its own module under ``tvl_lsp.commands`` and exposes
-``main(argv) -> int``; the exit code is 0 (no error), 1 (errors found), 2 (usage or
-internal failure).
+Exit status: 0 no error, 1 errors found, 2 usage or internal failure.
 """
 
 from __future__ import annotations

@@ -59,6 +59,20 @@ class NotEncodable(Exception):
     pass
 
 
+def _chain(e: M.Expr, op: str) -> list[M.Expr]:
+    """The operands of a chain ``a op b op c ...`` (either nesting), in order, without recursion."""
+    out: list[M.Expr] = []
+    stack = [e]
+    while stack:
+        x = stack.pop()
+        if isinstance(x, M.Binary) and _ALIAS.get(x.op, x.op) == op:
+            stack.append(x.right)
+            stack.append(x.left)
+        else:
+            out.append(x)
+    return out
+
+
 def _check_read(e: M.Expr) -> None:
     """The parser stands a ``true`` in for an expression nested too deeply to read: encoding it
     would make the constraint look redundant and the counts silently wrong."""
@@ -459,8 +473,8 @@ class Encoding:
         if isinstance(e, M.Binary):
             op = _ALIAS.get(e.op, e.op)
             if (op == "&&" and pos) or (op == "||" and not pos):
-                self._assert(e.left, prefix, pos, out, ctx)
-                self._assert(e.right, prefix, pos, out, ctx)
+                for x in _chain(e, op):  # a long chain must not recurse
+                    self._assert(x, prefix, pos, out, ctx)
                 return
             if op in ("->", "requires", "<-"):
                 a, b_ = (e.left, e.right) if op != "<-" else (e.right, e.left)
@@ -559,6 +573,9 @@ class Encoding:
             raise NotEncodable(f"operator {e.op} on a boolean")
         if isinstance(e, M.Binary):
             op = _ALIAS.get(e.op, e.op)
+            if op in ("&&", "||"):  # a long chain must not recurse
+                xs = [self._blit(x, ctx) for x in _chain(e, op)]
+                return b.and_(xs) if op == "&&" else b.or_(xs)
             if op in ("&&", "||", "->", "<-", "requires", "excludes"):
                 l, r = self._blit(e.left, ctx), self._blit(e.right, ctx)
                 if op == "&&":

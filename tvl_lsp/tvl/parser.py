@@ -29,6 +29,7 @@ from ..text import LineIndex, Pos, Span
 from . import model as m
 from .lexer import Tok
 
+MAX_CHAIN = 5000  # terms of a flat `a && b && ...` / `a || b || ...` chain
 MAX_DEPTH = 200  # expression / feature nesting handled (deeper input is reported, not crashed on)
 
 
@@ -282,6 +283,15 @@ class _Builder(Transformer):
     def binop(self, c):
         left, op, right = c
         d = max(self._d(left), self._d(right)) + 1
+        if (str(op.value) in ("&&", "||") and isinstance(left, m.Binary) and left.op == str(op.value)
+                and not getattr(left, "too_deep", False)):
+            # a flat chain `a || b || c ...` (generated models have long ones) is not nesting:
+            # what follows the parser walks such chains without recursion (up to MAX_CHAIN terms)
+            n = getattr(left, "_n", 2) + 1
+            d = max(self._d(left), self._d(right) + 1) if n <= MAX_CHAIN else MAX_DEPTH + 1
+            node = self._mk(m.Binary(str(op.value), left, right), _s(left), _e(right), d)
+            node._n = n
+            return node
         return self._mk(m.Binary(str(op.value), left, right), _s(left), _e(right), d)
 
     def unop(self, c):
