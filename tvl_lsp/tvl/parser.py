@@ -940,7 +940,7 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                            f"put a space after '-' to subtract")
                 else:
                     what = (f"'{tok.value}'" if tok.type not in ("ID", "INT", "REAL", "STRING")
-                            else f"{_disp(tok.type)} '{tok.value}'")
+                            else f"{_disp(tok.type).split(' ', 1)[-1]} '{tok.value}'")
                     msg = f"unexpected {what}; expected {_expected(e.expected)}"
                 if (tok.type in ("ID", "OPT", "SHARED") and k > 0 and toks[k - 1].type in ("ID", "RBRACE")
                         and ("COMMA" in e.expected or "SEMI" in e.expected) and k not in patched):
