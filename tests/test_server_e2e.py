@@ -105,9 +105,10 @@ async def test_counting_starts_when_the_model_is_checked(client: LanguageClient)
     loop = asyncio.get_running_loop()
     end = loop.time() + 90
 
-    def count_done():
-        return any(isinstance(r, types.WorkDoneProgressEnd) for rs in client.progress_reports.values()
-                   for r in rs)
+    def count_done():  # a progress bar "Counting the products of big.tvl" that has ended
+        return any(any(isinstance(r, types.WorkDoneProgressBegin) and "big.tvl" in r.title for r in rs)
+                   and any(isinstance(r, types.WorkDoneProgressEnd) for r in rs)
+                   for rs in client.progress_reports.values())
     while not count_done() and loop.time() < end:
         await asyncio.sleep(0.2)
     assert count_done(), "no background count ran after the model was checked"
