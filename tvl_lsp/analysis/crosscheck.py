@@ -53,6 +53,7 @@ from pysat.solvers import Solver
 from ..diagnostics import Diagnostic, Fix, Related, Severity, TextEdit, register
 from ..text import LineIndex, Pos, Span
 from . import formula as fm
+from .encode import _Builder
 
 MISSING_ARG = register(
     "missing-arg", Severity.WARNING,
@@ -89,7 +90,9 @@ class PairLogic:
     def __init__(self, encoding=None, free_names: Iterable[str] = ()):
         self.enc = encoding
         self.solver = Solver(name=SOLVER, bootstrap_with=encoding.clauses() if encoding is not None else [])
-        self.top = encoding.nvars if encoding is not None else 0
+        # the encoder's Tseitin builder (constant folding, structural caching); the clauses it
+        # defines are handed to the incremental solver as they appear (see _flush)
+        self._b = _Builder(encoding.nvars if encoding is not None else 0, [])
         self.var_of: dict[str, int] = {}
         self.names: list[tuple[str, int]] = []  # witness names in order
         if encoding is not None:
@@ -105,6 +108,14 @@ class PairLogic:
         self._cache: dict[fm.Formula, int] = {}
         self._void: Optional[bool] = None
 
+    @property
+    def top(self) -> int:
+        return self._b.top
+
+    @top.setter
+    def top(self, value: int) -> None:
+        self._b.top = value
+
     def close(self) -> None:
         if self._tot is not None:
             self._tot.delete()
@@ -112,8 +123,7 @@ class PairLogic:
         self.solver.delete()
 
     def _new(self) -> int:
-        self.top += 1
-        return self.top
+        return self._b.new_var()
 
     def _var(self, name: str) -> int:
         v = self.var_of.get(name)
@@ -129,45 +139,30 @@ class PairLogic:
             self.names.append((name, v))
         return v
 
-    def _lit(self, f: fm.Formula):
-        """Tseitin: a literal equivalent to ``f`` (definitions added as hard clauses)."""
+    def _flush(self) -> None:
+        for c in self._b.hard:
+            self.solver.add_clause(c)
+        self._b.hard.clear()
+
+    def _go(self, f: fm.Formula):
         if isinstance(f, fm.Const):
             return f.value
         if isinstance(f, fm.Var):
             return self._var(f.name)
         if isinstance(f, fm.Not):
-            x = self._lit(f.arg)
-            return (not x) if isinstance(x, bool) else -x
+            return self._b.not_(self._go(f.arg))
         hit = self._cache.get(f)
-        if hit is not None:
-            return hit
-        lits = [self._lit(a) for a in f.args]
-        if isinstance(f, fm.And):
-            if any(x is False for x in lits):
-                return False
-            lits = [x for x in lits if x is not True]
-            if not lits:
-                return True
-            if len(lits) == 1:
-                return lits[0]
-            y = self._new()
-            for x in lits:
-                self.solver.add_clause([-y, x])
-            self.solver.add_clause([y] + [-x for x in lits])
-        else:
-            if any(x is True for x in lits):
-                return True
-            lits = [x for x in lits if x is not False]
-            if not lits:
-                return False
-            if len(lits) == 1:
-                return lits[0]
-            y = self._new()
-            for x in lits:
-                self.solver.add_clause([y, -x])
-            self.solver.add_clause([-y] + lits)
-        self._cache[f] = y
-        return y
+        if hit is None:
+            lits = [self._go(a) for a in f.args]
+            hit = self._b.and_(lits) if isinstance(f, fm.And) else self._b.or_(lits)
+            self._cache[f] = hit
+        return hit
+
+    def _lit(self, f: fm.Formula):
+        """Tseitin: a literal (or a bool) equivalent to ``f``, its definitions in the solver."""
+        x = self._go(f)
+        self._flush()
+        return x
 
     def _assume(self, f: fm.Formula) -> Optional[list[int]]:
         """Assumptions asserting f; None when f is constant false."""
@@ -195,16 +190,8 @@ class PairLogic:
 
     def and_lits(self, a, b):
         """A literal (or bool) for ``a && b`` of two literals / bools."""
-        if a is False or b is False:
-            return False
-        if a is True:
-            return b
-        if b is True:
-            return a
-        y = self._new()
-        self.solver.add_clause([-y, a])
-        self.solver.add_clause([-y, b])
-        self.solver.add_clause([y, -a, -b])
+        y = self._b.and_([a, b])
+        self._flush()
         return y
 
     def witness(self, f: fm.Formula, guard=True) -> Optional[dict[str, bool]]:
