@@ -547,7 +547,7 @@ class Walker:
             elif where.startswith("include:"):
                 base = f"included file [{os.path.basename(where[8:])}] requires the '{name}' arg to be set"
             else:
-                base = f"[{os.path.basename(sc.filename)}] requires the '{name}' arg to be set"
+                base = f"{os.path.basename(sc.filename)} requires the '{name}' arg to be set"
             self.fact(UNDEFINED_ARG, f"{base}: '{name}' is not declared in this scope", el, span,
                       conj([missing, neg(declared)]))
             self.fact(UNSET_ARG, f"{base}: '{name}' is declared without value or default and nothing sets it",
