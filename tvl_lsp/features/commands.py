@@ -73,19 +73,19 @@ def register(ls) -> None:
         _refresh_lens(ls)
         return res
 
-    @ls.command(INCLUDE)
-    async def include(ls, *args):
+    async def decide(ls, args, selected: bool):
         model = model_of(ls, _path(args[0] if args else None))
         feature = _feature_arg(args)
-        ls.decisions.setdefault(model, {})[feature] = True
+        ls.decisions.setdefault(model, {})[feature] = selected
         return await _checked(ls, propagate, model, feature)
+
+    @ls.command(INCLUDE)
+    async def include(ls, *args):
+        return await decide(ls, args, True)
 
     @ls.command(EXCLUDE)
     async def exclude(ls, *args):
-        model = model_of(ls, _path(args[0] if args else None))
-        feature = _feature_arg(args)
-        ls.decisions.setdefault(model, {})[feature] = False
-        return await _checked(ls, propagate, model, feature)
+        return await decide(ls, args, False)
 
     @ls.command(RESET)
     async def reset(ls, *args):
