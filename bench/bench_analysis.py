@@ -32,7 +32,7 @@ SHARED = ROOT.parent / "shared" / "models"
 from tvl_lsp.analysis.count import CACHE, count_cnf  # noqa: E402
 from tvl_lsp.analysis.dimacs import dimacs_to_model, parse_dimacs  # noqa: E402
 from tvl_lsp.analysis.engine import ModelAnalysis  # noqa: E402
-from tvl_lsp.text import ZERO_SPAN  # noqa: E402
+from tvl_lsp.base.text import ZERO_SPAN  # noqa: E402
 from tvl_lsp.tvl import model as M  # noqa: E402
 
 MODELS = ["busybox-1.18.0", "ecos-i386pc", "embtoolkit", "uclinux-distribution", "freebsd-8.0.0", "automotive01"]

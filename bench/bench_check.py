@@ -30,7 +30,7 @@ def main() -> int:
                     help="--jobs values to compare (default: 1 and automatic)")
     ns = ap.parse_args()
     sys.path.insert(0, str(ROOT))
-    from tvl_lsp.workspace import discover_files
+    from tvl_lsp.project.workspace import discover_files
     files = discover_files([ns.path])
     print(f"tree: {ns.path}")
     print(f"files: {len(files.models)} models, {len(files.launches)} launch files, "

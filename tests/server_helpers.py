@@ -129,7 +129,7 @@ def install_client_handlers(client: LanguageClient) -> None:
 
 def apply_workspace_edit(edit: types.WorkspaceEdit) -> list[Path]:
     """Apply a WorkspaceEdit to disk as an editor would; returns the files touched."""
-    from tvl_lsp.lsp_convert import uri_to_path
+    from tvl_lsp.lsp.convert import uri_to_path
     touched = []
     for ch in edit.document_changes or []:
         if isinstance(ch, types.CreateFile):

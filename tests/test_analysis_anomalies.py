@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from tvl_lsp.analysis import formula as fm
+from tvl_lsp.base import formula as fm
 from tvl_lsp.analysis.engine import ModelAnalysis
 from tvl_lsp.tvl import parse_model
 

@@ -13,7 +13,7 @@ import pytest
 from tvl_lsp.analysis import count as C
 from tvl_lsp.analysis.dimacs import dimacs_to_model, parse_dimacs
 from tvl_lsp.analysis.engine import ModelAnalysis
-from tvl_lsp.commands import count as count_cmd
+from tvl_lsp.cli.commands import count as count_cmd
 from tvl_lsp.tvl import parse_model
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared"

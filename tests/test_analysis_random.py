@@ -13,8 +13,8 @@ import pytest
 from pysat.solvers import Solver
 
 from tvl_lsp.analysis.engine import ModelAnalysis
-from tvl_lsp.analysis import formula as fm
-from tvl_lsp.text import ZERO_SPAN
+from tvl_lsp.base import formula as fm
+from tvl_lsp.base.text import ZERO_SPAN
 from tvl_lsp.tvl import model as M
 
 

@@ -11,10 +11,10 @@ from pathlib import Path
 import jsonschema
 import pytest
 
-from tvl_lsp.cli import main
-from tvl_lsp.diagnostics import Diagnostic, Related, Severity
-from tvl_lsp.output import format_github, gh_escape_data, gh_escape_property, to_json_objects, to_sarif
-from tvl_lsp.text import Pos, Span
+from tvl_lsp.main import main
+from tvl_lsp.base.diagnostics import Diagnostic, Related, Severity
+from tvl_lsp.cli.output import format_github, gh_escape_data, gh_escape_property, to_json_objects, to_sarif
+from tvl_lsp.base.text import Pos, Span
 
 HERE = Path(__file__).resolve().parent
 PAIRS = HERE / "data" / "pairs"
@@ -193,7 +193,7 @@ def test_garbage_never_crashes_the_check(tmp_path, capsys):
 
 
 def test_check_document_for_each_kind_of_file():
-    from tvl_lsp.check import check_document, pairing_of
+    from tvl_lsp.project.check import check_document, pairing_of
     ds = check_document(str(PAIRS / "badws/haros_missing.yaml"))
     assert [d.code for d in ds] == ["project-file-not-found"]
     assert check_document(str(PAIRS / "clean/clean.tvl")) == []

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.check import check_document
-from tvl_lsp.cli import main
-from tvl_lsp.commands.explain import doc_text, load_codes, sections
+from tvl_lsp.project.check import check_document
+from tvl_lsp.main import main
+from tvl_lsp.cli.commands.explain import doc_text, load_codes, sections
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "diagnostics.md"

@@ -29,8 +29,8 @@ from pathlib import Path
 import pytest
 
 from tvl_lsp.analysis.engine import ModelAnalysis
-from tvl_lsp.analysis.formula import evaluate
-from tvl_lsp.check import check_paths, free_top_args
+from tvl_lsp.base.formula import evaluate
+from tvl_lsp.project.check import check_paths, free_top_args
 from tvl_lsp.launch import analyse_launch
 from tvl_lsp.tvl import parse_model
 

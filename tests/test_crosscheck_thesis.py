@@ -27,7 +27,7 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.check import check_paths
+from tvl_lsp.project.check import check_paths
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared"
 WS = SHARED / "corpus" / "thesis" / "ws"

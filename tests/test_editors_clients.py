@@ -15,8 +15,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from tvl_lsp.features import commands as server_commands
-from tvl_lsp.server import Settings, file_kind
+from tvl_lsp.lsp.features import commands as server_commands
+from tvl_lsp.lsp.server import Settings, file_kind
 
 REPO = Path(__file__).resolve().parents[1]
 EXT = REPO / "editors" / "vscode"

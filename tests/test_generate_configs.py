@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.cli import main as cli_main
-from tvl_lsp.generate import (GenerateError, configuration_name, find_package, inside,
+from tvl_lsp.main import main as cli_main
+from tvl_lsp.project.generate import (GenerateError, configuration_name, find_package, inside,
                               normalise_product, plan_configurations, render_configuration,
                               resolve_folder)
 

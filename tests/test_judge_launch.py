@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from tvl_lsp.analysis.engine import ModelAnalysis
-from tvl_lsp.check import check_paths, free_top_args
+from tvl_lsp.project.check import check_paths, free_top_args
 from tvl_lsp.tvl import parse_model
 
 HERE = Path(__file__).resolve().parent
@@ -103,7 +103,7 @@ def test_correct_generic_launch_file_is_clean(diags):
 
 
 def test_pairing_rules(diags):
-    from tvl_lsp.workspace import load_workspace
+    from tvl_lsp.project.workspace import load_workspace
     ws = load_workspace([str(WS)])
     rules = {}
     for stem, model in PAIRS.items():

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from tvl_lsp.analysis.engine import ModelAnalysis
-from tvl_lsp.text import Pos, Span
+from tvl_lsp.base.text import Pos, Span
 from tvl_lsp.tvl import model as M
 from tvl_lsp.tvl import parse_model
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from tvl_lsp.cli import main
+from tvl_lsp.main import main
 
 WS = Path(__file__).resolve().parent / "data" / "launch" / "ws"
 

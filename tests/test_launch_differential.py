@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.analysis.formula import evaluate
+from tvl_lsp.base.formula import evaluate
 from tvl_lsp.launch import analyse_launch, find_packages, load_launch
 
 HERE = Path(__file__).resolve().parent

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 
 from tvl_lsp.launch import analyse_launch, check_launch, parse_xml
-from tvl_lsp.text import Pos, Span
+from tvl_lsp.base.text import Pos, Span
 
 
 def S(l1, c1, l2, c2):

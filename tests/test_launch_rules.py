@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.analysis.formula import FALSE, TRUE, Var, conj, evaluate, neg
-from tvl_lsp.diagnostics import CODES
+from tvl_lsp.base.formula import FALSE, TRUE, Var, conj, evaluate, neg
+from tvl_lsp.base.diagnostics import CODES
 from tvl_lsp.launch import analyse_launch, check_launch, load_launch
 
 WS = Path(__file__).resolve().parent / "data" / "launch" / "ws"

@@ -81,7 +81,7 @@ def test_non_editable_wheel_has_the_grammar_and_checks(tmp_path):
         assert "tvl_lsp/grammars/tvl.lark" in names, [n for n in names if "grammar" in n]
         z.extractall(tmp_path / "site")
     env = dict(os.environ, PYTHONPATH=str(tmp_path / "site"))
-    probe = ("import sys, tvl_lsp, tvl_lsp.cli as c; assert tvl_lsp.__file__.startswith(sys.argv[1]), tvl_lsp.__file__;"
+    probe = ("import sys, tvl_lsp, tvl_lsp.main as c; assert tvl_lsp.__file__.startswith(sys.argv[1]), tvl_lsp.__file__;"
              " sys.argv = ['tvl-lsp', '--check', '-q', sys.argv[2]]; sys.exit(c.main())")
     r = subprocess.run([sys.executable, "-c", probe, str(tmp_path / "site"), str(REPO / "examples")],
                        capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)

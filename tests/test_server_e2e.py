@@ -41,7 +41,7 @@ async def test_lizi_launch_shows_its_real_problems(client: LanguageClient):
 
 async def test_server_and_check_cli_agree_on_every_thesis_file(client: LanguageClient):
     """The server runs the same pipeline as ``tvl-lsp --check``: same diagnostics."""
-    from tvl_lsp.check import check_document
+    from tvl_lsp.project.check import check_document
     rels = ["src/lizi/launch/generic.launch", "src/lizi/launch/generic.tvl",
             "src/turtlebot_bringup/launch/generic.launch", "src/turtlebot/launch/turtlebot.tvl",
             "src/turtlerand/launch/generic_alt.launch", "src/turtlerand/launch/generic_alt.tvl",
@@ -83,7 +83,7 @@ async def test_hover_on_lizi_root_shows_2304(client: LanguageClient):
 
 
 async def test_main_rejects_bad_arguments(capsys):
-    from tvl_lsp.server import main
+    from tvl_lsp.lsp.server import main
     assert main(["--tcp", "localhost:notaport"]) == 2
     assert main(["--bogus"]) == 2
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from lsprotocol import types
 
-from tvl_lsp.diagnostics import Diagnostic, Fix, Related, Severity, TextEdit
-from tvl_lsp.lsp_convert import (apply_change, from_lsp_position, to_lsp_diagnostic, to_lsp_position,
+from tvl_lsp.base.diagnostics import Diagnostic, Fix, Related, Severity, TextEdit
+from tvl_lsp.lsp.convert import (apply_change, from_lsp_position, to_lsp_diagnostic, to_lsp_position,
                                  uri_to_path, path_to_uri)
-from tvl_lsp.server import Settings
-from tvl_lsp.text import LineIndex, Pos, Span
+from tvl_lsp.lsp.server import Settings
+from tvl_lsp.base.text import LineIndex, Pos, Span
 
 
 def P(line, ch):

@@ -4,8 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.diagnostics import CODES, Severity
-from tvl_lsp.text import Pos, Span
+from tvl_lsp.base.diagnostics import CODES, Severity
+from tvl_lsp.base.text import Pos, Span
 from tvl_lsp.tvl import parse_model
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared"

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.diagnostics import Severity
+from tvl_lsp.base.diagnostics import Severity
 from tvl_lsp.tvl import parse_model
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared"

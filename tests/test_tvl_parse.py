@@ -1,6 +1,6 @@
 """TVL front end: grammar coverage, the model it builds, exact ranges."""
 
-from tvl_lsp.text import Pos, Span
+from tvl_lsp.base.text import Pos, Span
 from tvl_lsp.tvl import parse_model
 from tvl_lsp.tvl import model as m
 

@@ -1,6 +1,6 @@
 """name_at / references: what a position designates and where a declaration is used."""
 
-from tvl_lsp.text import Pos, Span
+from tvl_lsp.base.text import Pos, Span
 from tvl_lsp.tvl import parse_model
 from tvl_lsp.tvl.symbols import name_at, references
 

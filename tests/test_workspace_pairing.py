@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.text import Pos, Span
-from tvl_lsp.workspace import (RULE_MARKER, RULE_NONE, RULE_PROJECT, RULE_STEM, discover_files, find_marker,
+from tvl_lsp.base.text import Pos, Span
+from tvl_lsp.project.workspace import (RULE_MARKER, RULE_NONE, RULE_PROJECT, RULE_STEM, discover_files, find_marker,
                                find_workspace_root, launch_stem, load_workspace, parse_project)
 
 HERE = Path(__file__).resolve().parent
@@ -159,7 +159,7 @@ def test_yaml_without_configurations_is_not_a_project():
 
 
 def test_two_project_files_pair_one_launch_file_with_two_models(tmp_path):
-    from tvl_lsp.check import check_paths
+    from tvl_lsp.project.check import check_paths
     pkg = tmp_path / "src" / "bot"
     (pkg / "launch").mkdir(parents=True)
     (pkg / "package.xml").write_text("<package><name>bot</name></package>")

@@ -50,9 +50,9 @@ from typing import Iterable, Optional
 from pysat.card import ITotalizer
 from pysat.solvers import Solver
 
-from ..diagnostics import Diagnostic, Fix, Related, Severity, TextEdit, register
-from ..text import LineIndex, Pos, Span
-from . import formula as fm
+from ..base.diagnostics import Diagnostic, Fix, Related, Severity, TextEdit, register
+from ..base.text import LineIndex, Pos, Span
+from ..base import formula as fm
 from .encode import _Builder
 
 MISSING_ARG = register(

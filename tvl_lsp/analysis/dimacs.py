@@ -19,7 +19,7 @@ from __future__ import annotations
 import os
 import re
 
-from ..text import Span, Pos
+from ..base.text import Span, Pos
 from ..tvl import model as M
 
 

@@ -38,10 +38,10 @@ from typing import Iterable, Optional, Union
 
 from pysat.card import CardEnc, EncType
 
-from ..diagnostics import Diagnostic, Related, Severity, register
-from ..text import LineIndex, Span, ZERO_SPAN
+from ..base.diagnostics import Diagnostic, Related, Severity, register
+from ..base.text import LineIndex, Span, ZERO_SPAN
 from ..tvl import model as M
-from . import formula as fm
+from ..base import formula as fm
 
 CONSTRAINT_NOT_ENCODED = register(
     "constraint-not-encoded", Severity.INFORMATION,

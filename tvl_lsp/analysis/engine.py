@@ -22,9 +22,9 @@ from typing import Iterable, Iterator, Mapping, Optional
 
 from pysat.solvers import Solver
 
-from ..diagnostics import Diagnostic, Related, Severity, register
+from ..base.diagnostics import Diagnostic, Related, Severity, register
 from ..tvl import model as M
-from . import formula as fm
+from ..base import formula as fm
 from .count import CACHE, CancelLike, CountTimeout, count_cnf, query_key
 from .encode import Element, Encoding, encode
 from .solve import SOLVER, Analyzer, Explanation
@@ -156,7 +156,7 @@ class ModelAnalysis:
             ex = explain([])
             rpath = root.path if root else self.model.path
             rspan = root.name_span if root else None
-            from ..text import ZERO_SPAN
+            from ..base.text import ZERO_SPAN
             out.append(Diagnostic(VOID_MODEL, Severity.ERROR, rpath, rspan or ZERO_SPAN,
                                   "This feature model has no product: no selection of features satisfies it."
                                   + because(ex), related=related(ex)))

@@ -11,7 +11,7 @@ Public API::
     find_packages(workspace_root) -> {package: folder}
 """
 
-from .loader import analyse_launch, check_launch, load_launch
+from .ros1.loader import analyse_launch, check_launch, load_launch
 from .model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
                     ParamFact, Subst)
 from .packages import find_packages, guess_workspace_root

@@ -5,9 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Optional
 
-from ..analysis.formula import FALSE, Formula
-from ..diagnostics import Diagnostic, Severity
-from ..text import Span
+from ..base.formula import FALSE, Formula
+from ..base.diagnostics import Diagnostic, Severity
+from ..base.text import Span
 
 
 @dataclass(frozen=True)

@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
-from ..diagnostics import Diagnostic, Severity, register
-from ..text import LineIndex, Pos, Span
+from ..base.diagnostics import Diagnostic, Severity, register
+from ..base.text import LineIndex, Pos, Span
 
 XML_SYNTAX = register("xml-syntax", Severity.ERROR, "The file is not well-formed XML", "launch")
 XML_ENTITY = register("xml-entity-declaration", Severity.ERROR,

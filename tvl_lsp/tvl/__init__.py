@@ -13,7 +13,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from ..diagnostics import Diagnostic, Fix, Severity, TextEdit, register
+from ..base.diagnostics import Diagnostic, Fix, Severity, TextEdit, register
 from . import model
 from .lexer import Tok, TooManyTokens, tokenize
 from .model import Model

@@ -17,8 +17,8 @@ from __future__ import annotations
 import difflib
 from typing import Iterable, Optional
 
-from ..diagnostics import Diagnostic, Fix, Related, Severity, TextEdit, register
-from ..text import Span
+from ..base.diagnostics import Diagnostic, Fix, Related, Severity, TextEdit, register
+from ..base.text import Span
 from . import model as m
 from .parser import (RawAttr, RawBody, RawChild, RawConst, RawConstraint, RawData, RawFeatureDecl,
                      RawGroup, RawType, SourceMap)
@@ -77,7 +77,7 @@ class ModelBuilder:
 
     def diag(self, code: str, s: int, e: int, msg: str, sev: Optional[Severity] = None, related=None,
              fixes=None, data=None):
-        from ..diagnostics import CODES
+        from ..base.diagnostics import CODES
         sev = sev if sev is not None else CODES[code].severity
         path, span = self.smap.path(s), self.sp(s, e)
         if fixes is None and data and "suggestions" in data:
@@ -87,7 +87,7 @@ class ModelBuilder:
 
     def diag_at(self, code: str, path: str, span: Span, msg: str, sev: Optional[Severity] = None,
                 related=None, data=None, fixes=None):
-        from ..diagnostics import CODES
+        from ..base.diagnostics import CODES
         sev = sev if sev is not None else CODES[code].severity
         if fixes is None and data and "suggestions" in data:
             fixes = self._fixes(path, span, data["suggestions"])

@@ -20,7 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Optional, Union
 
-from ..text import Span, ZERO_SPAN
+from ..base.text import Span, ZERO_SPAN
 
 
 # ---------------------------------------------------------------- expressions

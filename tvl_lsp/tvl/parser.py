@@ -25,7 +25,7 @@ from lark.lexer import Lexer
 
 from bisect import bisect_right as _bisect_right
 
-from ..text import LineIndex, Pos, Span
+from ..base.text import LineIndex, Pos, Span
 from . import model as m
 from .lexer import Tok
 

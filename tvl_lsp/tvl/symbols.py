@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Optional
 
-from ..text import Pos, Span
+from ..base.text import Pos, Span
 from . import model as m
 
 

@@ -15,12 +15,12 @@ import time
 
 
 def _load(path: str):
-    from ..analysis.engine import ModelAnalysis
+    from ...analysis.engine import ModelAnalysis
     with open(path, encoding="utf-8", errors="replace") as fh:
         text = fh.read()
     if path.endswith((".dimacs", ".cnf")):
         return ModelAnalysis.from_dimacs(text, path), []
-    from ..tvl import parse_model
+    from ...tvl import parse_model
     res = parse_model(text, path)
     return ModelAnalysis(res.model), res.errors
 
@@ -36,7 +36,7 @@ def main(argv: list[str]) -> int:
         args = ap.parse_args(argv)
     except SystemExit as ex:
         return 2 if ex.code else 0
-    from ..analysis.count import CountTimeout
+    from ...analysis.count import CountTimeout
     t0 = time.monotonic()
     try:
         an, errors = _load(args.model)

@@ -47,8 +47,8 @@ import re
 from dataclasses import dataclass, field
 from typing import Callable, Iterable, Optional
 
-from .diagnostics import Diagnostic, Severity, register
-from .text import LineIndex, Pos, Span
+from ..base.diagnostics import Diagnostic, Severity, register
+from ..base.text import LineIndex, Pos, Span
 
 ReadFile = Callable[[str], Optional[str]]
 

@@ -11,7 +11,7 @@ import json
 import os
 import sys
 
-from ..launch import load_launch
+from ...launch import load_launch
 
 
 def main(argv: list[str]) -> int:

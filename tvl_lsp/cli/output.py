@@ -14,8 +14,8 @@ import os
 import urllib.parse
 from typing import Callable, Optional, Sequence
 
-from .diagnostics import CODES, Diagnostic, Severity
-from .text import LineIndex, Pos, Span, to_encoding
+from ..base.diagnostics import CODES, Diagnostic, Severity
+from ..base.text import LineIndex, Pos, Span, to_encoding
 
 ReadFile = Callable[[str], Optional[str]]
 
@@ -128,7 +128,7 @@ def _region(lines: _Lines, path: str, span: Span) -> dict:
 
 def to_sarif(diags: Sequence[Diagnostic], read_file: ReadFile, base: Optional[str] = None,
              tool_version: Optional[str] = None) -> dict:
-    from . import __version__
+    from .. import __version__
     base = os.path.abspath(base or os.getcwd())
     lines = _Lines(read_file)
     used = sorted({d.code for d in diags})

@@ -70,11 +70,11 @@ def main(argv: Optional[list[str]] = None) -> int:
             parser.print_help()
             return 0
         ns = parser.parse_args(argv)
-        from .. import check
-        from ..diagnostics import CODES, Severity
-        from ..workspace import discover_files
+        from ...project import check
+        from ...base.diagnostics import CODES, Severity
+        from ...project.workspace import discover_files
         from ..output import render
-        from ..workspace import default_read_file
+        from ...project.workspace import default_read_file
         select, ignore = _codes(ns.select), _codes(ns.ignore)
         from .explain import load_codes
         load_codes()   # the front ends register their codes when imported (SARIF's rules use them)

@@ -8,9 +8,9 @@ from pathlib import Path
 
 from lsprotocol import types
 
-from ..lsp_convert import from_lsp_position, to_lsp_range
-from ..tvl import model as M
-from . import _facts as F
+from ..convert import from_lsp_position, to_lsp_range
+from ...tvl import model as M
+from ...project import facts as F
 
 HOVER_WAIT = 0.3  # seconds a hover waits for counts before answering without them
 

@@ -8,10 +8,10 @@ from typing import Optional
 from lsprotocol import types
 from pygls.exceptions import JsonRpcInvalidParams
 
-from ..lsp_convert import from_lsp_position, path_to_uri, to_lsp_range
-from ..text import LineIndex, Span
-from ..tvl import model as M
-from . import _facts as F
+from ..convert import from_lsp_position, path_to_uri, to_lsp_range
+from ...base.text import LineIndex, Span
+from ...tvl import model as M
+from ...project import facts as F
 
 FEATURE_NAME = re.compile(r"^[A-Z][A-Za-z0-9_]*$")
 ARG_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_/\-.]*$")
@@ -19,7 +19,7 @@ ARG_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_/\-.]*$")
 
 def _keywords() -> set[str]:
     try:
-        from ..tvl.lexer import KEYWORDS
+        from ...tvl.lexer import KEYWORDS
         return set(KEYWORDS)
     except ImportError:
         return set()

@@ -12,9 +12,10 @@ import sys
 from pathlib import Path
 from typing import Optional
 
+_PACKAGE = Path(__file__).resolve().parents[2]  # tvl_lsp/
 DOC_CANDIDATES = (
-    Path(__file__).resolve().parents[2] / "docs" / "diagnostics.md",
-    Path(__file__).resolve().parents[1] / "data" / "diagnostics.md",
+    _PACKAGE.parent / "docs" / "diagnostics.md",
+    _PACKAGE / "data" / "diagnostics.md",
 )
 
 
@@ -25,14 +26,13 @@ def load_codes() -> dict:
 
     import tvl_lsp
     for m in pkgutil.walk_packages(tvl_lsp.__path__, "tvl_lsp."):
-        if m.name in ("tvl_lsp.__main__", "tvl_lsp.server") or ".features" in m.name \
-                or m.name.startswith("tvl_lsp.commands"):
+        if m.name in ("tvl_lsp.__main__", "tvl_lsp.main") or m.name.startswith(("tvl_lsp.lsp", "tvl_lsp.cli")):
             continue
         try:
             importlib.import_module(m.name)
         except Exception:  # a module that cannot load here registers nothing we could check
             pass
-    from ..diagnostics import CODES
+    from ...base.diagnostics import CODES
     return CODES
 
 

@@ -24,9 +24,9 @@ from typing import Any, Optional
 from lsprotocol import types
 from pygls.exceptions import JsonRpcInvalidParams
 
-from ..generate import GenerateError, plan_configurations, resolve_folder
-from ..lsp_convert import path_to_uri, uri_to_path
-from . import _facts as F
+from ...project.generate import GenerateError, plan_configurations, resolve_folder
+from ..convert import path_to_uri, uri_to_path
+from ...project import facts as F
 
 INCLUDE, EXCLUDE, RESET = "tvl-lsp.include", "tvl-lsp.exclude", "tvl-lsp.reset"
 COUNT, LIST, GENERATE = "tvl-lsp.count", "tvl-lsp.listProducts", "tvl-lsp.generateConfigurations"

@@ -22,10 +22,10 @@ import importlib
 import sys
 
 SUBCOMMANDS = {
-    "count": "tvl_lsp.commands.count",
-    "launch": "tvl_lsp.commands.launch",
-    "generate": "tvl_lsp.commands.generate",
-    "check": "tvl_lsp.commands.check",
+    "count": "tvl_lsp.cli.commands.count",
+    "launch": "tvl_lsp.cli.commands.launch",
+    "generate": "tvl_lsp.cli.commands.generate",
+    "check": "tvl_lsp.cli.commands.check",
 }
 
 
@@ -41,9 +41,9 @@ def main(argv: list[str] | None = None) -> int:
             return _run(SUBCOMMANDS[argv[0]], argv[1:])
         if "--check" in argv:
             argv.remove("--check")
-            return _run("tvl_lsp.commands.check", argv)
+            return _run("tvl_lsp.cli.commands.check", argv)
         if argv and argv[0] == "--explain":
-            return _run("tvl_lsp.commands.explain", argv[1:])
+            return _run("tvl_lsp.cli.commands.explain", argv[1:])
         if argv and argv[0] in ("--version", "-V"):
             from . import __version__
             print(f"tvl-lsp {__version__}")
@@ -51,7 +51,7 @@ def main(argv: list[str] | None = None) -> int:
         if argv and argv[0] in ("-h", "--help"):
             print(__doc__)
             return 0
-        return _run("tvl_lsp.server", argv)
+        return _run("tvl_lsp.lsp.server", argv)
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:

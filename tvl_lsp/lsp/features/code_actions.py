@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from lsprotocol import types
 
-from ..diagnostics import Fix, TextEdit
-from ..lsp_convert import fix_to_edit, from_lsp_range, spans_overlap, to_lsp_diagnostic
+from ...base.diagnostics import Fix, TextEdit
+from ..convert import fix_to_edit, from_lsp_range, spans_overlap, to_lsp_diagnostic
 from .commands import GENERATE, can_create, creation_edit, plan
 
 

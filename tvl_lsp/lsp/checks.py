@@ -9,7 +9,7 @@ import logging
 from pathlib import Path
 from typing import Callable, Optional, Sequence
 
-from ..diagnostics import Diagnostic
+from ..base.diagnostics import Diagnostic
 
 log = logging.getLogger("tvl_lsp.server")
 
@@ -50,7 +50,7 @@ def full_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[st
                budget: float, workspace=None) -> list[Diagnostic]:
     """Every diagnostic of the document, solver-backed ones included: exactly what
     ``tvl-lsp --check`` reports for it."""
-    from .. import check
+    from ..project import check
     return list(check.check_document(path, text, read_file=read, roots=list(roots) or None,
                                      timeout=budget, workspace=workspace))
 
@@ -75,7 +75,7 @@ def _norm(p: str) -> str:
 
 
 def _kind(path: str) -> Optional[str]:
-    from ..server import file_kind
+    from .server import file_kind
     return file_kind(path)
 
 
@@ -105,7 +105,7 @@ def full_check_worker(kind: str, path: str, text: str, texts: dict[str, str], ro
                       budget: float, epoch: int) -> list[Diagnostic]:
     """:func:`full_check` in the server's check process (solver calls hold the GIL, so
     they must not run in the process that answers hovers)."""
-    from .. import check
+    from ..project import check
     if _LAST_EPOCH[0] != epoch:
         check.invalidate_workspaces()
         _LAST_EPOCH[0] = epoch

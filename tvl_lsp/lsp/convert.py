@@ -12,8 +12,8 @@ from typing import Callable, Iterable, Optional
 
 from lsprotocol import types
 
-from .diagnostics import Diagnostic, Fix, Severity
-from .text import LineIndex, Pos, Span, from_encoding, to_encoding
+from ..base.diagnostics import Diagnostic, Fix, Severity
+from ..base.text import LineIndex, Pos, Span, from_encoding, to_encoding
 
 _ENCODINGS = {"utf-8": "utf-8", "utf-16": "utf-16", "utf-32": "utf-32"}
 

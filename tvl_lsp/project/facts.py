@@ -8,7 +8,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Iterable, Optional
 
-from ..text import Pos, Span
+from ..base.text import Pos, Span
 from ..tvl import model as M
 
 

@@ -42,10 +42,10 @@ from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol
 from pygls.protocol.language_server import lsp_method
 
-from . import __version__
-from .diagnostics import Diagnostic, Severity
-from .lsp_convert import encoding_name, path_to_uri, to_lsp_diagnostic, uri_to_path
-from .text import LineIndex
+from .. import __version__
+from ..base.diagnostics import Diagnostic, Severity
+from .convert import encoding_name, path_to_uri, to_lsp_diagnostic, uri_to_path
+from ..base.text import LineIndex
 
 log = logging.getLogger("tvl_lsp.server")
 
@@ -285,7 +285,7 @@ class TvlLanguageServer(LanguageServer):
         return LineIndex(text) if text is not None else None
 
     def workspace_root_for(self, path: str) -> Optional[str]:
-        from .features.checks import _root_for
+        from .checks import _root_for
         return _root_for(path, self.roots)
 
     # ------------------------------------------------------------ parsed documents, workspace, facts
@@ -314,7 +314,7 @@ class TvlLanguageServer(LanguageServer):
 
     async def parsed(self, path: str):
         """The parsed document (TvlResult / LaunchAnalysis) for the current text of ``path``."""
-        from .features import checks
+        from . import checks
         from .server import file_kind as _fk
         text = self.read_file(path)
         kind = _fk(path)
@@ -332,7 +332,7 @@ class TvlLanguageServer(LanguageServer):
         root = self.workspace_root_for(path)
         if root:
             return [root]
-        from .workspace import find_workspace_root
+        from ..project.workspace import find_workspace_root
         try:
             return [find_workspace_root(path)]
         except Exception:
@@ -340,7 +340,7 @@ class TvlLanguageServer(LanguageServer):
 
     def workspace_model(self, path: str):
         """The Workspace (files, packages, pairings) that contains ``path``."""
-        from .workspace import load_workspace
+        from ..project.workspace import load_workspace
         roots = tuple(self.roots_for(path))
         key = ("workspace", roots, self.epoch)
         return self.cached(key, lambda: load_workspace(roots, read_file=self.read_file))
@@ -380,7 +380,7 @@ class TvlLanguageServer(LanguageServer):
         """Counts and anomalies of a model, computed in a worker process (so a slow count
         never blocks the event loop), cached by content.  With ``wait``, give up waiting
         after that many seconds (the computation goes on and lands in the cache)."""
-        from .features import _facts
+        from ..project import facts as _facts
         sources = await self.model_sources(model_path)
         if sources is None:
             return None
@@ -435,7 +435,7 @@ class TvlLanguageServer(LanguageServer):
             return None
 
     async def count_under(self, model_path: str, formula, wait: Optional[float] = None):
-        from .features import _facts
+        from ..project import facts as _facts
         sources = await self.model_sources(model_path)
         if sources is None:
             return None
@@ -536,7 +536,7 @@ class TvlLanguageServer(LanguageServer):
         self._full_tasks[uri] = asyncio.ensure_future(self._full_pass(uri, self._generation[uri]))
 
     async def _syntax_pass(self, uri: str) -> None:
-        from .features import checks
+        from . import checks
         try:
             while True:
                 self._syntax_dirty.discard(uri)
@@ -563,7 +563,7 @@ class TvlLanguageServer(LanguageServer):
             self._syntax_running.pop(uri, None)
 
     async def _full_pass(self, uri: str, generation: int) -> None:
-        from .features import checks
+        from . import checks
         try:
             await asyncio.sleep(self.settings.debounce)
             if self._generation.get(uri) != generation:
@@ -649,7 +649,7 @@ class TvlLanguageServer(LanguageServer):
 
     def recheck_dependents(self, path: str) -> None:
         """Editing a model re-checks its paired launch files and vice versa (open ones)."""
-        from .features import checks
+        from . import checks
         for uri, doc in list(self.docs.items()):
             if doc.path == path or doc.kind is None:
                 continue
@@ -783,9 +783,9 @@ def _kill_pool(pool) -> None:
 
 def _warm() -> None:
     try:
-        from .features import _facts  # noqa: F401
-        from .analysis import engine  # noqa: F401
-        from .tvl import parse_model  # noqa: F401
+        from ..project import facts as _facts  # noqa: F401
+        from ..analysis import engine  # noqa: F401
+        from ..tvl import parse_model  # noqa: F401
     except Exception:
         pass
 

@@ -7,8 +7,8 @@ import re
 
 from lsprotocol import types
 
-from ..lsp_convert import from_lsp_position
-from ..text import Pos
+from ..convert import from_lsp_position
+from ...base.text import Pos
 
 TVL_KEYWORDS = [
     "root", "group", "oneOf", "someOf", "allOf", "opt", "shared", "bool", "int", "real", "enum",

@@ -23,14 +23,14 @@ from typing import Callable, Iterable, Mapping, Optional
 
 import yaml
 
-from ..analysis.formula import FALSE, TRUE, Formula, Var, conj, disj, evaluate, neg, variables
-from ..diagnostics import Diagnostic, Related, Severity, register
-from ..text import LineIndex, Span
+from ...base.formula import FALSE, TRUE, Formula, Var, conj, disj, evaluate, neg, variables
+from ...base.diagnostics import Diagnostic, Related, Severity, register
+from ...base.text import LineIndex, Span
 from . import subst as S
-from .model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
+from ..model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
                     ParamFact, Subst)
-from .packages import find_packages, guess_workspace_root
-from .xml import XAttr, XElement, XmlDoc, parse_xml, value_span
+from ..packages import find_packages, guess_workspace_root
+from ..xml import XAttr, XElement, XmlDoc, parse_xml, value_span
 
 Cases = list  # list[tuple[Formula, str]]
 

@@ -7,10 +7,10 @@ import re
 
 from lsprotocol import types
 
-from ..lsp_convert import to_lsp_range
-from ..text import LineIndex, Span, to_encoding
-from ..tvl import model as M
-from . import _facts as F
+from ..convert import to_lsp_range
+from ...base.text import LineIndex, Span, to_encoding
+from ...tvl import model as M
+from ...project import facts as F
 
 TOKEN_TYPES = ["keyword", "class", "property", "variable", "number", "string", "comment",
                "operator", "enumMember", "type"]
@@ -185,7 +185,7 @@ _OPS = set("&|-<>!=+*/?:")
 
 
 def tvl_semantic_tokens(text: str, model, path: str, enc: str) -> list[int]:
-    from ..tvl.lexer import KEYWORDS, tokenize
+    from ...tvl.lexer import KEYWORDS, tokenize
     toks, _ = tokenize(text)
     index = LineIndex(text)
     features, attrs, consts, typenames, enums = set(), set(), set(), set(), set()

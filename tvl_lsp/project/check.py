@@ -37,7 +37,7 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import Callable, Iterable, Optional, Sequence
 
-from .diagnostics import Diagnostic, Related, Severity
+from ..base.diagnostics import Diagnostic, Related, Severity
 from .workspace import (Files, Pairing, Workspace, default_read_file, discover_files, find_workspace_root,
                         is_launch, is_model, is_yaml, load_workspace, norm)
 
@@ -61,8 +61,8 @@ class _ModelInfo:
 
 def _load_model(path: str, read_file: ReadFile, text: Optional[str] = None,
                 anomalies: bool = True, timeout: Optional[float] = 10.0) -> Optional[_ModelInfo]:
-    from .analysis.engine import ModelAnalysis
-    from .tvl import parse_model
+    from ..analysis.engine import ModelAnalysis
+    from ..tvl import parse_model
     if text is None:
         text = read_file(path)
     if text is None:
@@ -80,11 +80,11 @@ def _load_model(path: str, read_file: ReadFile, text: Optional[str] = None,
 
 
 def _internal(path: str, msg: str) -> Diagnostic:
-    from .text import Pos, Span
+    from ..base.text import Pos, Span
     return Diagnostic("internal-error", Severity.ERROR, path, Span(Pos(0, 0), Pos(0, 0)), msg)
 
 
-from .diagnostics import register as _register  # noqa: E402
+from ..base.diagnostics import register as _register  # noqa: E402
 
 INTERNAL_ERROR = _register("internal-error", Severity.ERROR,
                            "tvl-lsp failed while analysing a file (a bug: please report it)", "workspace")
@@ -116,8 +116,8 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                  read_file: Optional[ReadFile] = None, models: Optional[dict] = None,
                  timeout: Optional[float] = 10.0) -> list[Diagnostic]:
     """A launch file's diagnostics: its own, and the cross-checks of each pairing."""
-    from .analysis.crosscheck import cross_check
-    from .launch import analyse_launch
+    from ..analysis.crosscheck import cross_check
+    from ..launch import analyse_launch
     read_file = read_file or default_read_file
     if text is None:
         text = read_file(path)
@@ -150,7 +150,7 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
         out += _launch_own(la)
         broken = [d for d in (info.diagnostics if info is not None else []) if d.code in STRUCTURAL]
         if broken or (info is not None and info.model.root is None):
-            from .text import Pos, Span
+            from ..base.text import Pos, Span
             span = la.root.span if la.root is not None else Span(Pos(0, 0), Pos(0, 0))
             first = broken[0] if broken else None
             out.append(Diagnostic(
@@ -159,7 +159,7 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                 "(args, dead elements, duplicates per product) resume when they are fixed",
                 related=[Related(first.path, first.span, first.message)] if first else []))
             # what fails whatever the args still holds
-            from .analysis.formula import TRUE
+            from ..base.formula import TRUE
             out += [Diagnostic(f.code, f.severity, f.path, f.span, f.message,
                                [r if isinstance(r, Related) else Related(*r) for r in f.related])
                     for f in la.facts if f.condition == TRUE and f.path == path]
@@ -202,7 +202,7 @@ def free_top_args(text: str, path: str) -> list[str]:
     default: ``true`` / ``false`` would be meaningless there; so does one an ``$(eval)`` compares
     with a string (``arg('robot') == 'pmb2'``).  With a model, the features are
     added to these (and those naming no feature are reported as ``unmatched-arg``)."""
-    from .launch import parse_xml
+    from ..launch import parse_xml
     doc = parse_xml(text, path)
     if doc.root is None or doc.root.tag != "launch":
         return []

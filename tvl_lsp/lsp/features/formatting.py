@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from lsprotocol import types
 
-from ..lsp_convert import to_lsp_position
-from ..text import Pos
+from ..convert import to_lsp_position
+from ...base.text import Pos
 
 
 def register(ls) -> None:
@@ -15,7 +15,7 @@ def register(ls) -> None:
         if doc is None or doc.kind != "tvl":
             return None
         try:
-            from ..tvl.format import format_tvl
+            from ...tvl.format import format_tvl
         except ImportError:
             return None
         text, version = doc.text, doc.version

@@ -34,11 +34,11 @@ def main(argv: list[str]) -> int:
     except SystemExit as ex:
         return 2 if ex.code else 0
 
-    from ..features._facts import generation_products
-    from ..generate import GenerateError, plan_configurations, resolve_folder
-    from ..launch import analyse_launch
-    from ..tvl import parse_model
-    from ..workspace import find_workspace_root, load_workspace, norm
+    from ...project.facts import generation_products
+    from ...project.generate import GenerateError, plan_configurations, resolve_folder
+    from ...launch import analyse_launch
+    from ...tvl import parse_model
+    from ...project.workspace import find_workspace_root, load_workspace, norm
 
     launch = norm(args.launch)
     if not os.path.isfile(launch):

@@ -6,7 +6,7 @@ import asyncio
 
 from lsprotocol import types
 
-from ..lsp_convert import to_lsp_range
+from ..convert import to_lsp_range
 from .commands import COUNT
 
 LENS_WAIT = 0.3

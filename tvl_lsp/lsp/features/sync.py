@@ -7,7 +7,7 @@ import logging
 
 from lsprotocol import types
 
-from ..lsp_convert import apply_change, path_to_uri, uri_to_path
+from ..convert import apply_change, path_to_uri, uri_to_path
 
 log = logging.getLogger("tvl_lsp.server")
 
