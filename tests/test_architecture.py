@@ -1,0 +1,139 @@
+"""The package's architecture (docs/architecture.md) as tests: the import-linter contracts in
+pyproject.toml hold, no module imports itself back through a cycle, every top-level package
+has a layer, and modules stay small enough to read."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+PACKAGE = REPO / "tvl_lsp"
+
+MAX_LINES = 1000
+MAX_SERVER_LINES = 350
+
+import grimp  # noqa: E402  (import-linter's graph builder; both in the "test" extra)
+import importlinter.cli as importlinter_cli  # noqa: E402
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # import-linter depends on tomli there
+    import tomli as tomllib
+
+
+def _config() -> dict:
+    with open(REPO / "pyproject.toml", "rb") as fh:
+        return tomllib.load(fh)["tool"]["importlinter"]
+
+
+def test_import_linter_contracts_hold(monkeypatch, capsys):
+    monkeypatch.chdir(REPO)
+    code = importlinter_cli.lint_imports(config_filename=str(REPO / "pyproject.toml"), no_cache=True,
+                                         no_logo=True)
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "broken" not in out.replace("0 broken", ""), out
+
+
+def _strongly_connected(graph) -> list[list[str]]:
+    """Tarjan's algorithm over the module graph (iterative: no recursion limit)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    out: list[list[str]] = []
+    counter = 0
+    for start in sorted(graph.modules):
+        if start in index:
+            continue
+        work = [(start, iter(sorted(graph.find_modules_directly_imported_by(start))))]
+        index[start] = low[start] = counter
+        counter += 1
+        stack.append(start)
+        on_stack.add(start)
+        while work:
+            v, it = work[-1]
+            for w in it:
+                if w not in index:
+                    index[w] = low[w] = counter
+                    counter += 1
+                    stack.append(w)
+                    on_stack.add(w)
+                    work.append((w, iter(sorted(graph.find_modules_directly_imported_by(w)))))
+                    break
+                if w in on_stack:
+                    low[v] = min(low[v], index[w])
+            else:
+                work.pop()
+                if work:
+                    low[work[-1][0]] = min(low[work[-1][0]], low[v])
+                if low[v] == index[v]:
+                    comp = []
+                    while True:
+                        w = stack.pop()
+                        on_stack.discard(w)
+                        comp.append(w)
+                        if w == v:
+                            break
+                    if len(comp) > 1:
+                        out.append(sorted(comp))
+    return out
+
+
+def test_no_import_cycles():
+    """Module-level imports, imports inside functions and ``TYPE_CHECKING`` imports alike."""
+    graph = grimp.build_graph("tvl_lsp", cache_dir=None)
+    cycles = _strongly_connected(graph)
+    details = []
+    for comp in cycles:
+        for a in comp:
+            for b in comp:
+                if a != b and graph.direct_import_exists(importer=a, imported=b):
+                    details.append(f"{a} -> {b}")
+    assert not cycles, "import cycles:\n" + "\n".join(details)
+
+
+def test_cycle_finder_finds_a_cycle():
+    class G:
+        modules = {"a", "b", "c", "d"}
+        edges = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
+
+        def find_modules_directly_imported_by(self, m):
+            return self.edges.get(m, set())
+    assert _strongly_connected(G()) == [["a", "b", "c"]]
+
+
+def test_every_top_level_package_has_a_layer():
+    """A new package (say ``tvl_lsp.graph``) must be placed in the layers contract, else
+    nothing checks its imports."""
+    layers = next(c for c in _config()["contracts"] if c["type"] == "layers")["layers"]
+    named = {m.strip() for layer in layers for m in layer.replace(":", "|").split("|")}
+    top = {f"tvl_lsp.{p.name}" for p in PACKAGE.iterdir() if (p / "__init__.py").is_file()}
+    top |= {f"tvl_lsp.{p.stem}" for p in PACKAGE.glob("*.py") if p.stem not in ("__init__", "__main__")}
+    assert top <= named, f"not in the layers contract: {sorted(top - named)}"
+
+
+def test_core_packages_are_covered_by_the_core_contract():
+    contracts = _config()["contracts"]
+    core = set(next(c for c in contracts if c.get("id") == "core")["source_modules"])
+    hosts = {"tvl_lsp.lsp", "tvl_lsp.cli", "tvl_lsp.ui", "tvl_lsp.main"}
+    top = {f"tvl_lsp.{p.name}" for p in PACKAGE.iterdir() if (p / "__init__.py").is_file()}
+    assert top - hosts <= core, f"core packages outside the core contract: {sorted(top - hosts - core)}"
+
+
+def _lines(path: Path) -> int:
+    with open(path, encoding="utf-8") as fh:
+        return sum(1 for _ in fh)
+
+
+def test_modules_are_small():
+    big = {str(p.relative_to(REPO)): n for p in PACKAGE.rglob("*.py") if (n := _lines(p)) > MAX_LINES}
+    assert not big, f"modules over {MAX_LINES} lines: {big}"
+
+
+def test_server_is_thin():
+    n = _lines(PACKAGE / "lsp" / "server.py")
+    assert n <= MAX_SERVER_LINES, f"tvl_lsp/lsp/server.py has {n} lines (at most {MAX_SERVER_LINES})"
