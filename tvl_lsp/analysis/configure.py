@@ -8,15 +8,23 @@ remain.  Unassigning a feature is dropping it from the decisions.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Mapping, Optional, TYPE_CHECKING
+from typing import Mapping, Optional, Protocol, Sequence
 
 from pysat.solvers import Solver
 
 from .count import CountCancelled, CountTimeout
+from .encode import Encoding
 from .solve import SOLVER, backbone_of
 
-if TYPE_CHECKING:
-    from .engine import ModelAnalysis
+
+class Countable(Protocol):
+    """What propagation needs of a model's analysis (``engine.ModelAnalysis`` is one): its
+    encoding and a count under include / exclude decisions."""
+
+    encoding: Encoding
+
+    def count(self, *, include: Sequence[str] = (), exclude: Sequence[str] = (),
+              timeout: Optional[float] = None) -> Optional[int]: ...
 
 
 @dataclass
@@ -36,7 +44,7 @@ class Propagation:
         return self.conflict is None
 
 
-def propagate(analysis: "ModelAnalysis", decisions: Mapping[str, bool], count: bool = True,
+def propagate(analysis: Countable, decisions: Mapping[str, bool], count: bool = True,
               timeout: Optional[float] = 5.0) -> Propagation:
     enc = analysis.encoding
     lits: dict[int, str] = {}

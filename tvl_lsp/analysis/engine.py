@@ -25,6 +25,7 @@ from pysat.solvers import Solver
 from ..base.diagnostics import Diagnostic, Related, Severity, register
 from ..tvl import model as M
 from ..base import formula as fm
+from .configure import propagate as _propagate
 from .count import CACHE, CancelLike, CountTimeout, count_cnf, query_key
 from .encode import Element, Encoding, encode
 from .solve import SOLVER, Analyzer, Explanation
@@ -310,5 +311,4 @@ class ModelAnalysis:
     # ------------------------------------------------------------------ configuration
     def propagate(self, decisions: Mapping[str, bool], count: bool = True,
                   timeout: Optional[float] = 5.0):
-        from .configure import propagate
-        return propagate(self, decisions, count=count, timeout=timeout)
+        return _propagate(self, decisions, count=count, timeout=timeout)
