@@ -16,7 +16,8 @@ import pytest
 import yaml
 
 from tvl_lsp.lsp.features import commands as server_commands
-from tvl_lsp.lsp.server import Settings, file_kind
+from tvl_lsp.lsp.checks import file_kind
+from tvl_lsp.lsp.settings import Settings
 
 REPO = Path(__file__).resolve().parents[1]
 EXT = REPO / "editors" / "vscode"

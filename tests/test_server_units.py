@@ -7,7 +7,7 @@ from lsprotocol import types
 from tvl_lsp.base.diagnostics import Diagnostic, Fix, Related, Severity, TextEdit
 from tvl_lsp.lsp.convert import (apply_change, from_lsp_position, to_lsp_diagnostic, to_lsp_position,
                                  uri_to_path, path_to_uri)
-from tvl_lsp.lsp.server import Settings
+from tvl_lsp.lsp.settings import Settings
 from tvl_lsp.base.text import LineIndex, Pos, Span
 
 

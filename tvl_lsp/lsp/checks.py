@@ -15,6 +15,18 @@ log = logging.getLogger("tvl_lsp.server")
 
 Reader = Callable[[str], Optional[str]]
 
+LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".test")
+
+
+def file_kind(path: str) -> Optional[str]:
+    """"tvl", "launch" or None: which front end the server analyses a document with."""
+    p = path.lower()
+    if p.endswith(".tvl"):
+        return "tvl"
+    if p.endswith(LAUNCH_SUFFIXES) or p.endswith(".xml") and "launch" in p:
+        return "launch"
+    return None
+
 
 def _root_for(path: str, roots: Sequence[str]) -> Optional[str]:
     best = None
@@ -59,7 +71,7 @@ def depends_on(ls, doc, changed: str) -> bool:
     """Should ``doc`` be re-checked when the file ``changed`` changes?  A launch file depends
     on its paired models and on the launch files it may include; a model on the launch files
     paired with it (so that both sides stay consistent in the editor)."""
-    ck = _kind(changed)
+    ck = file_kind(changed)
     if doc.kind == "launch":
         if ck == "tvl":
             return _norm(changed) in {_norm(m) for m in ls.models_for_launch(doc.path)}
@@ -72,11 +84,6 @@ def depends_on(ls, doc, changed: str) -> bool:
 def _norm(p: str) -> str:
     import os
     return os.path.normpath(os.path.abspath(p))
-
-
-def _kind(path: str) -> Optional[str]:
-    from .server import file_kind
-    return file_kind(path)
 
 
 # ------------------------------------------------------------------ worker process side

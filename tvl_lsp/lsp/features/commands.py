@@ -42,7 +42,7 @@ def _path(arg: Any) -> str:
 
 
 def model_of(ls, path: str) -> str:
-    from ..server import file_kind
+    from ..checks import file_kind
     if file_kind(path) == "tvl":
         return path
     models = ls.models_for_launch(path)
@@ -169,7 +169,7 @@ def can_create(ls) -> bool:
 async def plan(ls, opts: dict):
     """(files, out_dir, truncated) for a generation request (nothing written)."""
     path = _path(opts)
-    from ..server import file_kind
+    from ..checks import file_kind
     mode = opts.get("mode") or "all"
     if mode not in ("one", "completions", "all"):
         raise JsonRpcInvalidParams("mode must be one of: one, completions, all")

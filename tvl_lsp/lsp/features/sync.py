@@ -13,7 +13,7 @@ log = logging.getLogger("tvl_lsp.server")
 
 
 def register(ls) -> None:
-    from ..server import Document
+    from ..documents import Document
 
     @ls.feature(types.INITIALIZE)
     def initialize(ls, params: types.InitializeParams):
@@ -30,7 +30,7 @@ def register(ls) -> None:
     @ls.feature(types.INITIALIZED)
     async def initialized(ls, params):
         ls.warm_up()
-        from ..server import _WATCHDOG
+        from ..workers import _WATCHDOG
         for hb in _WATCHDOG:
             asyncio.ensure_future(hb())
         await _pull_configuration(ls)

@@ -1,0 +1,218 @@
+"""The document store: the server's own copy of every open document (unsaved editor text
+wins over the disk), a cache of disk files, the latest parse of each file, the workspace
+(files, packages, pairings) behind a path, and a small content-keyed cache.
+
+:class:`DocumentStore` is a mixin of :class:`~tvl_lsp.lsp.server.TvlLanguageServer`; its
+state is set up by :meth:`DocumentStore._init_documents`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import os
+from pathlib import Path
+from typing import Any, Callable, Optional
+
+from ..base.text import LineIndex
+from . import checks
+from .checks import file_kind
+from .convert import path_to_uri, uri_to_path
+
+log = logging.getLogger("tvl_lsp.server")
+
+
+class Document:
+    __slots__ = ("uri", "path", "text", "version", "_index", "kind")
+
+    def __init__(self, uri: str, text: str, version: Optional[int]):
+        self.uri = uri
+        self.path = uri_to_path(uri)
+        self.text = text
+        self.version = version
+        self._index: Optional[LineIndex] = None
+        self.kind = file_kind(self.path)
+
+    def set_text(self, text: str, version: Optional[int]) -> None:
+        self.text = text
+        self.version = version
+        self._index = None
+
+    @property
+    def index(self) -> LineIndex:
+        if self._index is None:
+            self._index = LineIndex(self.text)
+        return self._index
+
+
+def content_key(*parts: str) -> str:
+    h = hashlib.sha1()
+    for p in parts:
+        h.update(p.encode("utf-8", "surrogatepass"))
+        h.update(b"\0")
+    return h.hexdigest()
+
+class DocumentStore:
+    """Open documents, file texts, parses and pairings (a mixin of the server)."""
+
+    def _init_documents(self) -> None:
+        self.docs: dict[str, Document] = {}
+        self.roots: list[str] = []
+        self.disk_cache: dict[str, tuple[float, str]] = {}
+        self.parsed_cache: dict[str, tuple] = {}
+        # caches keyed by content
+        self.cache: dict[tuple, Any] = {}
+        self._cache_order: list[tuple] = []
+        self.epoch = 0  # bumped when files on disk or workspace folders change
+
+    # ------------------------------------------------------------ files
+    def read_file(self, path: str) -> Optional[str]:
+        """Text of ``path``: the open document if there is one, else the disk."""
+        uri = path_to_uri(path)
+        doc = self.docs.get(uri)
+        if doc is not None:
+            return doc.text
+        try:
+            st = os.stat(path)
+        except OSError:
+            return None
+        hit = self.disk_cache.get(path)
+        if hit and hit[0] == st.st_mtime_ns:
+            return hit[1]
+        try:
+            with open(path, encoding="utf-8", errors="replace") as fh:
+                text = fh.read()
+        except OSError:
+            return None
+        if len(self.disk_cache) > 2000:
+            self.disk_cache.clear()
+        self.disk_cache[path] = (st.st_mtime_ns, text)
+        return text
+
+    def snapshot_reader(self) -> Callable[[str], Optional[str]]:
+        """A thread-safe reader over the open documents as they are now, then the disk."""
+        texts = {d.path: d.text for d in self.docs.values()}
+
+        def read(path: str) -> Optional[str]:
+            p = str(Path(path))
+            if p in texts:
+                return texts[p]
+            try:
+                with open(p, encoding="utf-8", errors="replace") as fh:
+                    return fh.read()
+            except OSError:
+                return None
+        return read
+
+    def index_of(self, path: str) -> Optional[LineIndex]:
+        doc = self.docs.get(path_to_uri(path))
+        if doc is not None:
+            return doc.index
+        text = self.read_file(path)
+        return LineIndex(text) if text is not None else None
+
+    def workspace_root_for(self, path: str) -> Optional[str]:
+        return checks._root_for(path, self.roots)
+
+    # ------------------------------------------------------------ parsed documents, workspace, facts
+    def _parse_key(self, path: str, text: str) -> tuple:
+        return (content_key(text), self.epoch)
+
+    def _store_parsed(self, path: str, text: str, parsed) -> None:
+        """Keep the latest parse of each file only (parsed trees are big: keeping one per
+        keystroke would grow memory and garbage-collection pauses)."""
+        if parsed is not None:
+            self.parsed_cache[path] = (self._parse_key(path, text), parsed)
+            if len(self.parsed_cache) > 256:
+                for k in list(self.parsed_cache)[:64]:
+                    if path_to_uri(k) not in self.docs:
+                        self.parsed_cache.pop(k, None)
+
+    def parsed_now(self, path: str):
+        """The parsed document for the current text of ``path`` if already known."""
+        text = self.read_file(path)
+        if text is None:
+            return None
+        hit = self.parsed_cache.get(path)
+        if hit is not None and hit[0] == self._parse_key(path, text):
+            return hit[1]
+        return None
+
+    async def parsed(self, path: str):
+        """The parsed document (TvlResult / LaunchAnalysis) for the current text of ``path``."""
+        text = self.read_file(path)
+        kind = file_kind(path)
+        if text is None or kind is None:
+            return None
+        hit = self.parsed_now(path)
+        if hit is not None:
+            return hit
+        parsed = await self.run_in_thread(checks.parse_document, kind, path, text,
+                                          self.snapshot_reader(), self.roots)
+        self._store_parsed(path, text, parsed)
+        return parsed
+
+    def roots_for(self, path: str) -> list[str]:
+        root = self.workspace_root_for(path)
+        if root:
+            return [root]
+        from ..project.workspace import find_workspace_root
+        try:
+            return [find_workspace_root(path)]
+        except Exception:
+            return [str(Path(path).parent)]
+
+    def workspace_model(self, path: str):
+        """The Workspace (files, packages, pairings) that contains ``path``."""
+        from ..project.workspace import load_workspace
+        roots = tuple(self.roots_for(path))
+        key = ("workspace", roots, self.epoch)
+        return self.cached(key, lambda: load_workspace(roots, read_file=self.read_file))
+
+    def models_for_launch(self, path: str) -> list[str]:
+        try:
+            ws = self.workspace_model(path)
+            pairings, _ = ws.pair(path, self.read_file(path))
+            return [p.model for p in pairings if p.model]
+        except Exception:
+            log.exception("pairing failed")
+            return []
+
+    def launches_for_model(self, path: str) -> list[str]:
+        try:
+            ws = self.workspace_model(path)
+            return sorted({p.launch for p in ws.launches_for_model(path)})
+        except Exception:
+            log.exception("pairing failed")
+            return []
+
+    async def model_sources(self, model_path: str) -> Optional[dict[str, str]]:
+        res = await self.parsed(model_path)
+        model = getattr(res, "model", None)
+        if model is None:
+            return None
+        sources = dict(model.sources or {})
+        text = self.read_file(model_path)
+        if text is not None:
+            sources[model_path] = text
+        return sources
+
+    # ------------------------------------------------------------ cache
+    def _remember(self, key: tuple) -> None:
+        self._cache_order.append(key)
+        if len(self._cache_order) > 512:
+            old = self._cache_order.pop(0)
+            self.cache.pop(old, None)
+
+    def cached(self, key: tuple, compute: Callable[[], Any]) -> Any:
+        try:
+            return self.cache[key]
+        except KeyError:
+            pass
+        value = compute()
+        self.cache[key] = value
+        self._cache_order.append(key)
+        if len(self._cache_order) > 256:
+            old = self._cache_order.pop(0)
+            self.cache.pop(old, None)
+        return value

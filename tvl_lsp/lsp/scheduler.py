@@ -1,0 +1,273 @@
+"""The scheduler of background work: the two passes of every check (the syntax pass at once,
+in a thread; the solver-backed pass after ``settings.debounce`` of quiet, in the check
+process, one per document at a time, the newest text replacing queued work), re-checks of
+dependent files, and the model facts (counts, anomalies) and counts computed in the count
+process, cached by content.
+
+:class:`Scheduler` is a mixin of :class:`~tvl_lsp.lsp.server.TvlLanguageServer` (it uses
+the document store, the workers and the server's ``publish``); its state is set up by
+:meth:`Scheduler._init_scheduler`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures as cf
+from concurrent.futures.process import BrokenProcessPool
+import logging
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Optional
+
+from ..base.diagnostics import Diagnostic
+from ..project import facts as _facts
+from . import checks
+from .documents import content_key
+from .workers import _consume
+
+log = logging.getLogger("tvl_lsp.server")
+
+
+@dataclass
+class CheckResult:
+    version: Optional[int]
+    phase: str  # "syntax" | "full"
+    diagnostics: list[Diagnostic]
+
+
+class Scheduler:
+    """Checks, re-checks, facts and counts in the background (a mixin of the server)."""
+
+    def _init_scheduler(self) -> None:
+        # per-uri scheduling
+        self._generation: dict[str, int] = {}
+        self._syntax_running: dict[str, asyncio.Task] = {}
+        self._syntax_dirty: set[str] = set()
+        self._full_tasks: dict[str, asyncio.Task] = {}
+        self._check_running: dict[str, tuple] = {}
+        self.results: dict[str, CheckResult] = {}
+        self._facts_futures: dict[str, asyncio.Future] = {}
+        self._facts_queued: dict[str, tuple] = {}
+
+    # ------------------------------------------------------------ scheduling
+    def schedule(self, uri: str, syntax: bool = True) -> None:
+        """(Re)check ``uri``: the syntax pass at once (coalesced while one runs), the
+        solver-backed pass after ``settings.debounce`` of quiet."""
+        doc = self.docs.get(uri)
+        if doc is None or doc.kind is None:
+            return
+        self._generation[uri] = self._generation.get(uri, 0) + 1
+        if syntax:
+            if uri in self._syntax_running:
+                self._syntax_dirty.add(uri)
+            else:
+                self._syntax_running[uri] = asyncio.ensure_future(self._syntax_pass(uri))
+        old = self._full_tasks.pop(uri, None)
+        if old is not None and not old.done():
+            old.cancel()
+        self._full_tasks[uri] = asyncio.ensure_future(self._full_pass(uri, self._generation[uri]))
+
+    async def _syntax_pass(self, uri: str) -> None:
+        try:
+            while True:
+                self._syntax_dirty.discard(uri)
+                doc = self.docs.get(uri)
+                if doc is None:
+                    return
+                version, text, path, kind = doc.version, doc.text, doc.path, doc.kind
+                reader = self.snapshot_reader()
+                try:
+                    diags, parsed = await self.run_in_thread(checks.syntax_check, kind, path, text, reader, self.roots)
+                    self._store_parsed(path, text, parsed)
+                except Exception:
+                    log.exception("syntax check of %s failed", path)
+                    diags = []
+                doc = self.docs.get(uri)
+                cur = self.results.get(uri)
+                if doc is not None and doc.version == version and not (
+                        cur and cur.version == version and cur.phase == "full"):
+                    self.results[uri] = CheckResult(version, "syntax", diags)
+                    self.publish(uri)
+                if uri not in self._syntax_dirty:
+                    return
+        finally:
+            self._syntax_running.pop(uri, None)
+
+    async def _full_pass(self, uri: str, generation: int) -> None:
+        try:
+            await asyncio.sleep(self.settings.debounce)
+            if self._generation.get(uri) != generation:
+                return
+            doc = self.docs.get(uri)
+            if doc is None:
+                return
+            version, text, path, kind = doc.version, doc.text, doc.path, doc.kind
+            budget = self.settings.time_budget
+            texts = {d.path: d.text for d in self.docs.values()}
+            running = self._check_running.get(uri)
+            if running is not None and not running.done():
+                # one check per document at a time: wait for the one on an older text (each
+                # newer keystroke cancels this wait, so only the latest text is checked next)
+                try:
+                    await asyncio.wait_for(asyncio.shield(running), budget + 10)
+                except asyncio.TimeoutError:
+                    log.warning("a check of %s hangs: restarting the check process", path)
+                    self.restart_check_pool()
+                except asyncio.CancelledError:
+                    raise
+                except Exception:
+                    pass
+                if self._generation.get(uri) != generation:
+                    return
+            try:
+                cfut = self.check_pool.submit(checks.full_check_worker, kind, path, text, texts,
+                                              self.roots_for(path), budget, self.epoch)
+                afut = asyncio.wrap_future(cfut)
+                afut.add_done_callback(_consume)
+                self._check_running[uri] = afut
+                diags = await asyncio.wait_for(asyncio.shield(afut), timeout=budget + 10)
+            except asyncio.TimeoutError:
+                log.warning("check of %s ran out of its time budget", path)
+                self.restart_check_pool()
+                return
+            except asyncio.CancelledError:
+                raise
+            except BrokenProcessPool:
+                log.warning("the check process died; restarting it")
+                self.restart_check_pool()
+                return
+            except Exception:
+                log.exception("check of %s failed", path)
+                return
+            doc = self.docs.get(uri)
+            if doc is None or doc.version != version or self._generation.get(uri) != generation:
+                return  # stale: the text changed meanwhile
+            self.results[uri] = CheckResult(version, "full", diags)
+            self.publish(uri)
+            self.prefetch_facts(path, kind)
+        except asyncio.CancelledError:
+            pass
+
+    def prefetch_facts(self, path: str, kind: str) -> None:
+        """Start counting the products of the model behind ``path`` (the model itself, or the
+        models paired with a launch file) in the background, so that the first hover and the
+        code lens find the counts ready instead of saying "counting…"."""
+        try:
+            models = [path] if kind == "tvl" else list(self.models_for_launch(path))
+        except Exception:
+            log.exception("pairing failed")
+            return
+        for mp in models:
+            task = asyncio.ensure_future(self.model_facts(mp))
+            task.add_done_callback(_consume)
+
+    async def wait_full(self, uri: str, timeout: float) -> Optional[CheckResult]:
+        """The latest results of ``uri`` once no check of it is pending (or time runs out)."""
+        loop = asyncio.get_running_loop()
+        end = loop.time() + timeout
+        while True:
+            task = self._full_tasks.get(uri)
+            left = end - loop.time()
+            if task is None or task.done() or left <= 0:
+                break
+            try:
+                await asyncio.wait_for(asyncio.shield(task), left)
+            except (asyncio.TimeoutError, asyncio.CancelledError):
+                if loop.time() >= end:
+                    break
+        return self.results.get(uri)
+
+    def recheck_dependents(self, path: str) -> None:
+        """Editing a model re-checks its paired launch files and vice versa (open ones)."""
+        for uri, doc in list(self.docs.items()):
+            if doc.path == path or doc.kind is None:
+                continue
+            if checks.depends_on(self, doc, path):
+                self.schedule(uri, syntax=False)
+
+    def recheck_all(self) -> None:
+        for uri in list(self.docs):
+            self.schedule(uri)
+
+    def facts_ready(self, sources: dict[str, str]):
+        return self.cache.get(("facts", content_key(*sorted(f"{k}\0{v}" for k, v in sources.items()))))
+
+    async def model_facts(self, model_path: str, wait: Optional[float] = None):
+        """Counts and anomalies of a model, computed in a worker process (so a slow count
+        never blocks the event loop), cached by content.  With ``wait``, give up waiting
+        after that many seconds (the computation goes on and lands in the cache)."""
+        sources = await self.model_sources(model_path)
+        if sources is None:
+            return None
+        budget = self.settings.time_budget
+        key = ("facts", content_key(*sorted(f"{k}\0{v}" for k, v in sources.items())), budget)
+        hit = self.cache.get(key)
+        if hit is not None:
+            return hit
+        # a count queued for an older text of this model is stale: drop it
+        old = self._facts_queued.get(model_path)
+        if old is not None and old[0] != key[1]:
+            old[1].cancel()
+        fut = self._facts_futures.get(key[1])
+        if fut is None:
+            loop = asyncio.get_running_loop()
+
+            async def compute():
+                cfut = None
+                try:
+                    cfut = self.proc_pool.submit(_facts.compute_model_facts, model_path, sources, budget)
+                    self._facts_queued[model_path] = (key[1], cfut)
+                    afut = asyncio.wrap_future(cfut)
+                    afut.add_done_callback(_consume)
+                    facts = await asyncio.wait_for(asyncio.shield(afut), budget + 30)
+                except (cf.CancelledError, asyncio.CancelledError):
+                    if cfut is not None and cfut.cancelled():
+                        return _facts.ModelFacts(error="cancelled: the model changed")
+                    raise
+                except Exception as e:
+                    facts = _facts.ModelFacts(error=f"{type(e).__name__}: {e}")
+                    if isinstance(e, (BrokenProcessPool, asyncio.TimeoutError)):
+                        self.restart_proc_pool()
+                    return facts
+                # (a count that ran out of its budget is cached too: the same text and
+                # budget would run out again)
+                self.cache[key] = facts
+                self._remember(key)
+                return facts
+
+            async def run():
+                try:
+                    return await self.with_progress(f"Counting the products of {Path(model_path).name}", compute())
+                finally:
+                    self._facts_futures.pop(key[1], None)
+            fut = loop.create_task(run())
+            self._facts_futures[key[1]] = fut
+        if wait is None:
+            return await asyncio.shield(fut)
+        try:
+            return await asyncio.wait_for(asyncio.shield(fut), wait)
+        except asyncio.TimeoutError:
+            return None
+
+    async def count_under(self, model_path: str, formula, wait: Optional[float] = None):
+        sources = await self.model_sources(model_path)
+        if sources is None:
+            return None
+        key = ("count", content_key(*sorted(f"{k}\0{v}" for k, v in sources.items())), str(formula))
+        if key in self.cache:
+            return self.cache[key]
+        budget = self.settings.time_budget
+        cfut = self.proc_pool.submit(_facts.count_under, model_path, sources, formula, budget)
+        afut = asyncio.wrap_future(cfut)
+        afut.add_done_callback(_consume)
+        try:
+            n = await asyncio.wait_for(asyncio.shield(afut), wait or budget + 5)
+        except asyncio.TimeoutError:
+            return None
+        except Exception:
+            log.exception("count failed")
+            return None
+        self.cache[key] = n
+        self._remember(key)
+        return n
+

@@ -1,0 +1,171 @@
+"""Work off the event loop: a thread pool for parses, two worker processes (the solver-backed
+check, and counts / the configurator) that yield the CPU to the process answering the editor
+and die with it, ``$/progress`` reporting, and the event-loop watchdog (a debug aid).
+
+Solvers and counters hold the GIL, so anything that may take more than a few milliseconds
+runs in a worker process, never in a thread of the server.  :class:`Workers` is a mixin of
+:class:`~tvl_lsp.lsp.server.TvlLanguageServer`; its state is set up by
+:meth:`Workers._init_workers`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures as cf
+import os
+import sys
+import threading
+import time
+from typing import Optional
+
+from lsprotocol import types
+
+
+class Workers:
+    """Thread and process pools, progress (a mixin of the server)."""
+
+    def _init_workers(self) -> None:
+        self.executor = cf.ThreadPoolExecutor(max_workers=2, thread_name_prefix="tvl-check")
+        self._proc_pool: Optional[cf.ProcessPoolExecutor] = None
+        self._check_pool: Optional[cf.ProcessPoolExecutor] = None
+        self._proc_lock = threading.Lock()
+        self.progress_counter = 0
+
+    async def run_in_thread(self, fn, *args):
+        loop = asyncio.get_running_loop()
+        return await loop.run_in_executor(self.executor, fn, *args)
+
+    @property
+    def proc_pool(self) -> cf.ProcessPoolExecutor:
+        with self._proc_lock:
+            if self._proc_pool is None:
+                import multiprocessing as mp
+                self._proc_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
+                                                         initializer=_worker_init)
+            return self._proc_pool
+
+    @property
+    def check_pool(self) -> cf.ProcessPoolExecutor:
+        with self._proc_lock:
+            if self._check_pool is None:
+                import multiprocessing as mp
+                self._check_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
+                                                          initializer=_worker_init)
+            return self._check_pool
+
+    def restart_check_pool(self) -> None:
+        with self._proc_lock:
+            pool, self._check_pool = self._check_pool, None
+        _kill_pool(pool)
+
+    def warm_up(self) -> None:
+        """Start the worker processes now, so the first check / count does not pay for it."""
+        try:
+            self.proc_pool.submit(_warm)
+            self.check_pool.submit(_warm)
+        except Exception:
+            pass
+
+    def restart_proc_pool(self) -> None:
+        with self._proc_lock:
+            pool, self._proc_pool = self._proc_pool, None
+        _kill_pool(pool)
+
+    # ------------------------------------------------------------ progress
+    async def with_progress(self, title: str, coro):
+        """Run ``coro`` with a ``$/progress`` bar when the client supports it."""
+        if not self.supports_progress:
+            return await coro
+        self.progress_counter += 1
+        token = f"tvl-lsp-{os.getpid()}-{self.progress_counter}"
+        try:
+            await asyncio.wait_for(self.work_done_progress.create_async(token), 2)
+        except Exception:
+            return await coro
+        self.work_done_progress.begin(token, types.WorkDoneProgressBegin(title=title, cancellable=False))
+        try:
+            return await coro
+        finally:
+            self.work_done_progress.end(token, types.WorkDoneProgressEnd(message="done"))
+
+
+def _worker_init() -> None:
+    """Worker processes (checks, counts) yield the CPU to the process answering the editor,
+    and die with it (an editor may kill the server without a ``shutdown``)."""
+    try:
+        os.nice(10)
+    except (OSError, AttributeError):
+        pass
+    parent = os.getppid()
+    try:  # Linux: SIGKILL when the parent dies
+        import ctypes
+        import signal
+        libc = ctypes.CDLL("libc.so.6", use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
+    except Exception:
+        pass
+
+    def orphan_watch():  # elsewhere (or if the parent died before prctl): poll
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent:
+                os._exit(0)
+    threading.Thread(target=orphan_watch, daemon=True).start()
+
+
+def _consume(fut) -> None:
+    """Retrieve a future's exception so that asyncio does not log it as never retrieved."""
+    if not fut.cancelled():
+        fut.exception()
+
+
+def _kill_pool(pool) -> None:
+    if pool is None:
+        return
+    try:
+        for p in list((getattr(pool, "_processes", None) or {}).values()):
+            p.kill()
+    except Exception:
+        pass
+    try:
+        pool.shutdown(wait=True, cancel_futures=True)  # quick: its processes are gone
+    except Exception:
+        pass
+
+
+def _warm() -> None:
+    try:
+        from ..project import facts as _facts  # noqa: F401
+        from ..analysis import engine  # noqa: F401
+        from ..tvl import parse_model  # noqa: F401
+    except Exception:
+        pass
+
+
+def start_watchdog(path: str, threshold: float = 0.3) -> None:
+    """Debug aid (``TVL_LSP_WATCHDOG=FILE``): log the event loop's stack whenever it is
+    blocked for more than ``threshold`` seconds."""
+    import traceback
+    main_id = threading.get_ident()
+    beat = [time.monotonic()]
+
+    async def heartbeat():
+        while True:
+            beat[0] = time.monotonic()
+            await asyncio.sleep(0.05)
+
+    def watch():
+        while True:
+            time.sleep(0.1)
+            stalled = time.monotonic() - beat[0]
+            if stalled > threshold:
+                frame = sys._current_frames().get(main_id)
+                with open(path, "a") as fh:
+                    fh.write(f"--- loop blocked {stalled:.2f}s\n")
+                    fh.write("".join(traceback.format_stack(frame)[-12:]))
+    threading.Thread(target=watch, daemon=True).start()
+    _WATCHDOG.append(heartbeat)
+
+
+_WATCHDOG: list = []
+
