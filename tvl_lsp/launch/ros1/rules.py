@@ -1,0 +1,216 @@
+"""roslaunch 1's rules as data: the diagnostic codes of the launch front end, the analysis
+limits, the tags and attributes roslaunch knows, and the name and value helpers every tag
+rule shares (``ns_join``, ``canonicalize``, ``merge`` of guarded cases, ...)."""
+
+from __future__ import annotations
+
+import itertools
+import re
+from typing import Callable, Iterable, Optional
+
+import yaml
+
+from ...base.formula import FALSE, Formula, disj, evaluate, variables
+from ...base.diagnostics import Severity, register
+
+
+Cases = list  # list[tuple[Formula, str]]
+
+E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFORMATION
+
+
+def _reg(code: str, sev: Severity, summary: str) -> str:
+    return register(code, sev, summary, "launch")
+
+
+UNDEFINED_ARG = _reg("undefined-arg", E, "$(arg X) where X is not declared in scope")
+UNSET_ARG = _reg("unset-arg", W, "$(arg X) where X is declared without a value and nothing sets it")
+DUPLICATE_ARG = _reg("duplicate-arg", E, "An <arg> is declared twice in the same scope")
+ARG_ALREADY_SET = _reg("arg-already-set", E, "<arg value=...> for an arg that already has a value")
+ARG_VALUE_AND_DEFAULT = _reg("arg-value-and-default", E, "<arg> with both value and default")
+INVALID_CONDITION = _reg("invalid-condition", E, "if/unless does not evaluate to true/false/1/0")
+IF_AND_UNLESS = _reg("if-and-unless", E, "Both 'if' and 'unless' on the same tag")
+DUPLICATE_NODE = _reg("duplicate-node", E, "Two nodes with the same resolved name are loaded")
+MISSING_ATTRIBUTE = _reg("missing-attribute", E, "A required attribute is missing")
+UNKNOWN_ATTRIBUTE = _reg("unknown-attribute", W, "roslaunch does not know this attribute (it warns)")
+UNKNOWN_TAG = _reg("unknown-tag", W, "roslaunch does not know this tag (it warns and ignores it)")
+INVALID_VALUE = _reg("invalid-attribute-value", E, "An attribute value roslaunch rejects")
+NODE_NAME_NS = _reg("node-name-namespace", E, "A node name contains a namespace")
+ILLEGAL_NAME = _reg("illegal-node-name", W, "A node name that is not a legal ROS name")
+EMPTY_NS = _reg("empty-ns", E, "An empty 'ns' attribute")
+RESPAWN_REQUIRED = _reg("respawn-and-required", E, "respawn and required both true")
+PARAM_VALUE_COUNT = _reg("param-value-count", E, "<param> without exactly one of value/textfile/binfile/command")
+PARAM_INVALID = _reg("invalid-param", E, "A <param> or <rosparam> roslaunch cannot load")
+COMMAND_NOT_FOUND = _reg("command-not-found", E, "<param command=...> names a program that does not exist")
+FILE_NOT_FOUND = _reg("file-not-found", E, "A file a tag loads does not exist")
+SUBST_SYNTAX = _reg("substitution-syntax", E, "Malformed $(...) substitution")
+SUBST_UNKNOWN = _reg("unknown-substitution", E, "Unknown $(...) substitution command")
+SUBST_ARITY = _reg("substitution-arity", E, "Wrong number of arguments to a $(...) substitution")
+EVAL_ERROR = _reg("eval-error", E, "A $(eval ...) expression fails")
+ENV_NOT_SET = _reg("env-not-set", E, "$(env X) where X is not set in tvl-lsp's environment")
+PACKAGE_NOT_FOUND = _reg("package-not-found", E, "$(find pkg) of a package roslaunch cannot find")
+CONDITION_NOT_ANALYSABLE = _reg("condition-not-analysable", I, "A condition tvl-lsp cannot translate to a formula")
+INCLUDE_NOT_FOUND = _reg("include-not-found", E, "An included file does not exist")
+INCLUDE_INVALID = _reg("include-invalid", E, "An included file is not a valid launch file")
+INCLUDE_CYCLE = _reg("include-cycle", E, "Files include each other in a cycle")
+INCLUDE_TOO_DEEP = _reg("include-too-deep", W, "Includes nested too deeply to follow")
+INCLUDE_ARG_NO_VALUE = _reg("include-arg-no-value", E, "An <arg> inside <include> without value or default")
+UNUSED_INCLUDE_ARG = _reg("unused-include-arg", E, "An arg passed to an include that it does not declare")
+NO_LAUNCH_ROOT = _reg("no-launch-root", E, "The file has no single <launch> element")
+LAUNCH_IF_UNLESS = _reg("launch-if-unless", W, "if/unless on <launch> (roslaunch ignores it or crashes)")
+MACHINE_INVALID = _reg("invalid-machine", E, "A <machine> roslaunch rejects")
+ENV_INVALID = _reg("invalid-env", E, "An <env> roslaunch rejects")
+REMAP_INVALID = _reg("invalid-remap", E, "A <remap> roslaunch rejects")
+TEST_INVALID = _reg("invalid-test", E, "A <test> roslaunch rejects")
+BUDGET = _reg("launch-analysis-budget", W, "The launch file is too large to analyse completely")
+
+MAX_CASES = 64
+MAX_INCLUDE_DEPTH = 12
+MAX_VISITS = 200_000
+MAX_WALK_DEPTH = 150
+UNRESOLVED = "\x01"  # marks text produced by an unresolved $(find pkg)
+# the value of an arg whose value/default failed to evaluate (the failure is already reported;
+# uses of the arg are not reported again)
+POISON = UNRESOLVED + "?" + UNRESOLVED
+
+NAME_LEGAL = re.compile(r"^[~/A-Za-z][\w/]*$")
+
+LAUNCH_CHILD_TAGS = {"arg", "group", "node", "test", "param", "remap", "machine", "rosparam", "master",
+                     "include", "env"}
+NODE_ATTRS = ("pkg", "type", "machine", "name", "args", "output", "respawn", "respawn_delay", "cwd", "ns",
+              "clear_params", "launch-prefix", "required")
+TAG_ATTRS = {
+    "node": NODE_ATTRS,
+    "test": NODE_ATTRS + ("test-name", "time-limit", "retry"),
+    "param": ("name", "value", "type", "textfile", "binfile", "command"),
+    "rosparam": ("command", "ns", "file", "param", "subst_value"),
+    "arg": ("name", "value", "default", "doc"),
+    "machine": ("name", "address", "env-loader", "ssh-port", "user", "password", "default", "timeout",
+                "ros-root", "ros-package-path", "ros-ip", "ros-hostname"),
+    "remap": ("from", "to"),
+    "env": ("name", "value"),
+    "include": ("file", "ns", "clear_params", "pass_all_args"),
+    "group": ("ns", "clear_params"),
+    "launch": ("deprecated",),
+    "master": ("auto",),
+}
+
+
+# ------------------------------------------------------------------ helpers
+
+def ns_join(ns: str, name: str) -> str:
+    if name and name[0] in "~/":
+        return name
+    if ns == "~":
+        return "~" + name
+    if not ns:
+        return name
+    if ns[-1] == "/":
+        return ns + name
+    return ns + "/" + name
+
+
+def make_global_ns(name: str) -> str:
+    if not name.startswith("/"):
+        name = "/" + name
+    if not name.endswith("/"):
+        name += "/"
+    return name
+
+
+def canonicalize(name: str) -> str:
+    if not name or name == "/":
+        return name
+    if name[0] == "/":
+        return "/" + "/".join(x for x in name.split("/") if x)
+    return "/".join(x for x in name.split("/") if x)
+
+
+def is_legal_name(name: str) -> bool:
+    if name == "":
+        return True
+    return bool(NAME_LEGAL.match(name)) and "//" not in name
+
+
+def shown(s: str) -> str:
+    """A value for messages: unresolved $(find) markers printed back as written."""
+    s = s.replace(POISON, "<error>")
+    return re.sub(UNRESOLVED + r"([^" + UNRESOLVED + r"]*)" + UNRESOLVED, r"$(find \1)", s)
+
+
+def merge(cases: Iterable[tuple[Formula, str]]) -> Cases:
+    out: dict[str, Formula] = {}
+    for c, v in cases:
+        if c == FALSE:
+            continue
+        out[v] = disj([out[v], c]) if v in out else c
+    return [(c, v) for v, c in out.items()]
+
+
+def when(cases: Cases, pred: Callable[[str], bool]) -> Formula:
+    return disj(c for c, v in cases if pred(v))
+
+
+def _bool_val(v: str) -> Optional[bool]:
+    lv = v.lower().strip()
+    if lv in ("true", "1"):
+        return True
+    if lv in ("false", "0"):
+        return False
+    return None
+
+
+def _attr_bool(v: str) -> Optional[bool]:
+    lv = v.lower()
+    if lv == "true":
+        return True
+    if lv == "false":
+        return False
+    return None
+
+
+def _is_float(v: str) -> bool:
+    try:
+        float(v)
+        return True
+    except ValueError:
+        return False
+
+
+def _convert_error(value: str, ptype: str) -> Optional[str]:
+    if "$(" in value or UNRESOLVED in value:
+        return None
+    if ptype == "auto" or ptype in ("str", "string"):
+        return None
+    try:
+        if ptype == "int":
+            int(value)
+        elif ptype == "double":
+            float(value)
+        elif ptype in ("bool", "boolean"):
+            if value.lower().strip() not in ("true", "1", "false", "0"):
+                return f"{value.lower().strip()} is not a '{ptype}' type"
+        elif ptype == "yaml":
+            try:
+                yaml.safe_load(value)
+            except yaml.YAMLError as e:
+                return str(e)[:200]
+        else:
+            return f"Unknown type '{ptype}'"
+    except ValueError as e:
+        return str(e)
+    return None
+
+
+def _satisfiable(f: Formula, limit: int = 14) -> Optional[dict[str, bool]]:
+    """A satisfying assignment (brute force over the formula's variables), or None."""
+    if f == FALSE:
+        return None
+    vs = sorted(variables(f))
+    if len(vs) > limit:
+        return {}
+    for bits in itertools.product((False, True), repeat=len(vs)):
+        env = dict(zip(vs, bits))
+        if evaluate(f, env):
+            return env
+    return None
