@@ -16,9 +16,9 @@ after the last error is given up (and said so).
 from __future__ import annotations
 
 import threading
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Optional
+from typing import Optional
 
 from lark import Lark, Transformer
 from lark.lexer import Lexer
@@ -28,6 +28,8 @@ from bisect import bisect_right as _bisect_right
 from ..base.text import LineIndex, Pos, Span
 from . import model as m
 from .lexer import Tok
+from .raw import (RawAttr, RawBody, RawChild, RawConst, RawConstraint, RawData, RawFeatureDecl, RawGroup, RawType,
+                  SyntaxIssue)
 
 MAX_CHAIN = 5000  # terms of a flat `a && b && ...` / `a || b || ...` chain
 MAX_DEPTH = 200  # expression / feature nesting handled (deeper input is reported, not crashed on)
@@ -43,107 +45,6 @@ def _grammar_text() -> str:
         return (resources.files("tvl_lsp") / "grammars" / "tvl.lark").read_text(encoding="utf-8")
     except Exception as exc:  # pragma: no cover
         raise RuntimeError("grammars/tvl.lark not found") from exc
-
-
-# ---------------------------------------------------------------- raw declarations
-
-@dataclass(eq=False)
-class RawAttr:
-    type_tok: Tok
-    name_tok: Tok
-    start: int
-    end: int
-    value: Optional[m.Expr] = None
-    domain: Optional[m.Expr] = None
-    if_in_value: Optional[m.Expr] = None
-    if_in_domain: Optional[m.Expr] = None
-    if_out_value: Optional[m.Expr] = None
-    if_out_domain: Optional[m.Expr] = None
-    refinements: Optional[list["RawAttr"]] = None  # struct-typed attribute with a body
-    dup_parts: list[tuple[str, int, int]] = field(default_factory=list)
-
-
-@dataclass(eq=False)
-class RawConstraint:
-    kind: str
-    expr: m.Expr
-    start: int
-    end: int
-
-
-@dataclass(eq=False)
-class RawData:
-    entries: list[tuple[str, str, int, int]]
-    start: int
-    end: int
-
-
-@dataclass(eq=False)
-class RawChild:
-    optional: bool
-    shared: bool
-    parts: list[Tok]
-    body: Optional["RawBody"]
-    start: int
-    end: int
-    depth: int = 0
-
-
-@dataclass(eq=False)
-class RawGroup:
-    kind: str  # oneOf someOf allOf card
-    kw_start: int
-    kw_end: int
-    lo: Optional[Tok]
-    hi: Optional[Tok]
-    children: list[RawChild]
-    start: int
-    end: int
-
-
-@dataclass(eq=False)
-class RawBody:
-    items: list[Any]
-    start: int
-    end: int
-    depth: int = 0
-
-
-@dataclass(eq=False)
-class RawFeatureDecl:
-    is_root: bool
-    root_tok: Optional[Tok]
-    parts: list[Tok]
-    body: RawBody
-    start: int
-    end: int
-
-
-@dataclass(eq=False)
-class RawType:
-    kw: Tok
-    name_tok: Tok
-    domain: Optional[m.Expr]
-    fields: list[RawAttr]
-    start: int
-    end: int
-
-
-@dataclass(eq=False)
-class RawConst:
-    type_tok: Tok
-    name_tok: Tok
-    value: m.Expr
-    start: int
-    end: int
-
-
-@dataclass
-class SyntaxIssue:
-    code: str
-    start: int
-    end: int
-    message: str
 
 
 # ---------------------------------------------------------------- lark plumbing
