@@ -12,7 +12,8 @@ from pathlib import Path
 import pytest
 
 from tvl_lsp.base import formula as fm
-from tvl_lsp.analysis.crosscheck import PairLogic, cross_check
+from tvl_lsp.analysis.crosscheck import cross_check
+from tvl_lsp.analysis.solve import PairLogic
 from tvl_lsp.project.check import check_document, check_paths
 from tvl_lsp.base.diagnostics import Severity
 from tvl_lsp.launch import analyse_launch

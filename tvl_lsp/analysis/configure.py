@@ -10,11 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Mapping, Optional, Protocol, Sequence
 
-from pysat.solvers import Solver
-
 from .count import CountCancelled, CountTimeout
 from .encode import Encoding
-from .solve import SOLVER, backbone_of
+from .solve import decide
 
 
 class Countable(Protocol):
@@ -52,32 +50,15 @@ def propagate(analysis: Countable, decisions: Mapping[str, bool], count: bool = 
         v = enc.var(name)
         lits[v if val else -v] = name
     res = Propagation(dict(decisions))
-    s = Solver(name=SOLVER, bootstrap_with=enc.clauses())
-    try:
-        assumptions = list(lits)
-        if not s.solve(assumptions=assumptions):
-            core = [x for x in (s.get_core() or []) if x in lits]
-            i = 0
-            while i < len(core):  # deletion-based: every kept decision is needed
-                trial = core[:i] + core[i + 1:]
-                if s.solve(assumptions=trial):
-                    i += 1
-                else:
-                    got = set(s.get_core() or [])
-                    core = [x for x in trial if x in got]
-            res.conflict = [lits[x] for x in core]
-            res.count = 0 if count else None
-            return res
-        n = enc.n_features
-        m = s.get_model()
-        decided = {abs(x) for x in lits}
-        cand = {v: m[v - 1] > 0 for v in range(1, n + 1) if v not in decided}
-        forced = backbone_of(s, cand, assumptions)
-        res.forced = {enc.name_of(enc.feature_of_var[v]): val for v, val in sorted(forced.items())}
-        res.open = [enc.name_of(f) for f, v in enc.var_of_feature.items()
-                    if v not in decided and v not in forced]
-    finally:
-        s.delete()
+    conflict, forced = decide(enc, list(lits))
+    if conflict is not None:
+        res.conflict = [lits[x] for x in conflict]
+        res.count = 0 if count else None
+        return res
+    decided = {abs(x) for x in lits}
+    res.forced = {enc.name_of(enc.feature_of_var[v]): val for v, val in sorted(forced.items())}
+    res.open = [enc.name_of(f) for f, v in enc.var_of_feature.items()
+                if v not in decided and v not in forced]
     if count:
         inc = [k for k, val in decisions.items() if val]
         exc = [k for k, val in decisions.items() if not val]

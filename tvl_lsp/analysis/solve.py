@@ -1,6 +1,7 @@
-"""SAT analyses of an :class:`~tvl_lsp.analysis.encode.Encoding` with python-sat.
+"""The SAT service: every satisfiability question of the analysis goes through this module
+(python-sat).
 
-Two incremental solvers share the encoding:
+:class:`Analyzer` answers a model's own questions.  Two incremental solvers share the encoding:
 
 - a *plain* one on the model's CNF, for detection: void model, backbone (core and dead
   features) with a model-based filter (a literal seen flipped in any solution found so far needs
@@ -9,20 +10,29 @@ Two incremental solvers share the encoding:
 - a *selector* one where every element's clauses carry ``!s_e``, for explanations: a minimal
   unsatisfiable subset (MUS) of the selectors, from the solver's unsat core shrunk by deletion
   (each kept element is necessary: dropping it makes the query satisfiable).
+
+:class:`PairLogic` answers the cross-check's questions about formulas over feature / arg
+names (is it satisfiable, valid, the smallest witness product) for one pairing of a model and
+a launch file: one incremental solver over the model's CNF plus a Tseitin encoding of each
+queried formula.  :func:`decide` answers the configurator's (do these decisions conflict,
+which features do they force).
 """
 
 from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Iterable, Optional, Sequence
 
+from pysat.card import ITotalizer
 from pysat.solvers import Solver
 
-from .encode import Element, Encoding
+from ..base import formula as fm
 from ..tvl import model as M
+from .encode import Element, Encoding, _Builder
 
 SOLVER = "glucose4"
+CANONICAL_MAX_VARS = 400  # witnesses over more names are smallest, not canonical
 
 
 @dataclass
@@ -316,3 +326,203 @@ class Analyzer:
     def witness(self) -> Optional[list[int]]:
         self.is_void()
         return self._witness
+
+
+# ------------------------------------------------------------------ configurator decisions
+
+def decide(enc: Encoding, assumptions: Sequence[int]) -> tuple[Optional[list[int]], dict[int, bool]]:
+    """Can the decisions (feature literals ``assumptions``) hold together?  ``(conflict, {})``
+    with a minimal subset of them that cannot (every kept literal is necessary), or
+    ``(None, forced)`` with every undecided feature variable they force (var -> value)."""
+    s = Solver(name=SOLVER, bootstrap_with=enc.clauses())
+    try:
+        assumptions = list(assumptions)
+        if not s.solve(assumptions=assumptions):
+            given = set(assumptions)
+            core = [x for x in (s.get_core() or []) if x in given]
+            i = 0
+            while i < len(core):  # deletion-based: every kept decision is needed
+                trial = core[:i] + core[i + 1:]
+                if s.solve(assumptions=trial):
+                    i += 1
+                else:
+                    got = set(s.get_core() or [])
+                    core = [x for x in trial if x in got]
+            return core, {}
+        n = enc.n_features
+        m = s.get_model()
+        decided = {abs(x) for x in assumptions}
+        cand = {v: m[v - 1] > 0 for v in range(1, n + 1) if v not in decided}
+        return None, backbone_of(s, cand, assumptions)
+    finally:
+        s.delete()
+
+
+# ------------------------------------------------------------------ formula queries (the cross-check)
+
+class PairLogic:
+    """SAT over (model CNF ∧ formula) where formulas are over arg / feature names.
+
+    ``encoding`` is the model's :class:`~tvl_lsp.analysis.encode.Encoding` (None: no model,
+    every name is a free boolean).  ``free_names`` are names that must appear in witnesses
+    even when no formula mentions them (the launch file's free top-level args).
+    """
+
+    def __init__(self, encoding=None, free_names: Iterable[str] = ()):
+        self.enc = encoding
+        self.solver = Solver(name=SOLVER, bootstrap_with=encoding.clauses() if encoding is not None else [])
+        # the encoder's Tseitin builder (constant folding, structural caching); the clauses it
+        # defines are handed to the incremental solver as they appear (see _flush)
+        self._b = _Builder(encoding.nvars if encoding is not None else 0, [])
+        self.var_of: dict[str, int] = {}
+        self.names: list[tuple[str, int]] = []  # witness names in order
+        if encoding is not None:
+            for f in encoding.features:
+                v = encoding.var_of_feature[f]
+                name = encoding.name_of(f)
+                self.var_of[name] = v
+                self.names.append((name, v))
+        for n in free_names:
+            self._var(n)
+        self._tot: Optional[ITotalizer] = None
+        self._tot_size = 0
+        self._cache: dict[fm.Formula, int] = {}
+        self._void: Optional[bool] = None
+
+    @property
+    def top(self) -> int:
+        return self._b.top
+
+    @top.setter
+    def top(self, value: int) -> None:
+        self._b.top = value
+
+    def close(self) -> None:
+        if self._tot is not None:
+            self._tot.delete()
+            self._tot = None
+        self.solver.delete()
+
+    def _new(self) -> int:
+        return self._b.new_var()
+
+    def _var(self, name: str) -> int:
+        v = self.var_of.get(name)
+        if v is None and self.enc is not None:
+            f = self.enc.feature_by_name(name)
+            if f is not None:
+                v = self.enc.var_of_feature[f]
+                self.var_of[name] = v
+                return v
+        if v is None:
+            v = self._new()
+            self.var_of[name] = v
+            self.names.append((name, v))
+        return v
+
+    def _flush(self) -> None:
+        for c in self._b.hard:
+            self.solver.add_clause(c)
+        self._b.hard.clear()
+
+    def _go(self, f: fm.Formula):
+        if isinstance(f, fm.Const):
+            return f.value
+        if isinstance(f, fm.Var):
+            return self._var(f.name)
+        if isinstance(f, fm.Not):
+            return self._b.not_(self._go(f.arg))
+        hit = self._cache.get(f)
+        if hit is None:
+            lits = [self._go(a) for a in f.args]
+            hit = self._b.and_(lits) if isinstance(f, fm.And) else self._b.or_(lits)
+            self._cache[f] = hit
+        return hit
+
+    def _lit(self, f: fm.Formula):
+        """Tseitin: a literal (or a bool) equivalent to ``f``, its definitions in the solver."""
+        x = self._go(f)
+        self._flush()
+        return x
+
+    def _assume(self, f: fm.Formula) -> Optional[list[int]]:
+        """Assumptions asserting f; None when f is constant false."""
+        x = self._lit(f)
+        if x is False:
+            return None
+        return [] if x is True else [x]
+
+    def void(self) -> bool:
+        if self._void is None:
+            self._void = not self.solver.solve()
+        return self._void
+
+    def sat(self, f: fm.Formula) -> bool:
+        a = self._assume(f)
+        return a is not None and self.solver.solve(assumptions=a)
+
+    def valid(self, f: fm.Formula) -> bool:
+        """f holds in every product (vacuously true for a void model)."""
+        return not self.sat(fm.neg(f))
+
+    def lit(self, f: fm.Formula):
+        """A solver literal (or a bool) equivalent to f."""
+        return self._lit(f)
+
+    def and_lits(self, a, b):
+        """A literal (or bool) for ``a && b`` of two literals / bools."""
+        y = self._b.and_([a, b])
+        self._flush()
+        return y
+
+    def witness(self, f: fm.Formula, guard=True) -> Optional[dict[str, bool]]:
+        """A product satisfying f (and the literal ``guard``) with the fewest selected
+        features (and free args)."""
+        a = self._assume(f)
+        if a is None or guard is False:
+            return None
+        if guard is not True:
+            a = a + [guard]
+        if not self.solver.solve(assumptions=a):
+            return None
+        # names created by f itself must be counted too: rebuild the totalizer when they grew
+        lits = [v for _, v in self.names]
+        if self._tot is None or self._tot_size != len(lits):
+            if self._tot is not None:
+                self._tot.delete()
+            self._tot = ITotalizer(lits=lits, ubound=len(lits), top_id=self.top)
+            self.top = self._tot.top_id
+            for c in self._tot.cnf.clauses:
+                self.solver.add_clause(c)
+            self._tot_size = len(lits)
+            self.solver.solve(assumptions=a)
+        def on(m: list[int], v: int) -> bool:
+            return v <= len(m) and m[v - 1] > 0
+
+        best = self.solver.get_model() or []
+        count = sum(1 for v in lits if on(best, v))
+        rhs = self._tot.rhs
+        while count > 0:
+            # at most count-1 selected: rhs[count-1] false
+            if not self.solver.solve(assumptions=a + [-rhs[count - 1]]):
+                break
+            best = self.solver.get_model() or []
+            count = sum(1 for v in lits if on(best, v))
+        if len(lits) <= CANONICAL_MAX_VARS:
+            # canonical among the smallest: prefer the features declared first, so the answer
+            # does not depend on what the solver was asked before
+            fixed: list[int] = []
+            bound = [-rhs[count]] if count < len(lits) else []
+            for v in lits:
+                if sum(1 for x in fixed if x > 0) >= count:
+                    fixed.append(-v)
+                    continue
+                if on(best, v) or self.solver.solve(assumptions=a + bound + fixed + [v]):
+                    if not on(best, v):
+                        best = self.solver.get_model() or []
+                    fixed.append(v)
+                else:
+                    fixed.append(-v)
+            if self.solver.solve(assumptions=a + bound + fixed):
+                best = self.solver.get_model() or best
+        return {name: on(best, v) for name, v in self.names}
