@@ -6,7 +6,7 @@ Pure: no LSP here.  Entry point::
                 *, launch_text: str | None = None, model_path: str | None = None) -> list[Diagnostic]
 
 It returns the diagnostics *of the launch file* for this pairing (the model's own diagnostics
-are the model's, see :func:`tvl_lsp.check.check_model`):
+are the model's, see :func:`tvl_lsp.project.check.check_model`):
 
 - ``missing-arg``: a feature with no top-level ``<arg>`` (on the ``<launch>`` start tag; related:
   the feature; ``data = {"feature": NAME}``; a fix inserting ``<arg name="NAME"/>``);
@@ -25,7 +25,7 @@ are the model's, see :func:`tvl_lsp.check.check_model`):
 
 Feature args map to features by name (a feature's short name, or its long name when the short
 one is ambiguous).  Top-level args that name no feature — and, in a launch file without a
-model, its top-level args (see :func:`tvl_lsp.check.free_top_args`) — are free booleans.  A *witness* is a product with the fewest selected features (free
+model, its top-level args (see :func:`tvl_lsp.project.check.free_top_args`) — are free booleans.  A *witness* is a product with the fewest selected features (free
 args counted too) in which the problem shows, given as name -> bool over every feature and free
 top-level arg, ready to be passed to roslaunch as ``name:=true|false``.  roslaunch stops at the
 first error it meets, so the witness of a fact is, when there is one, the smallest product in

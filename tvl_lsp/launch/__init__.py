@@ -1,4 +1,8 @@
-"""roslaunch 1 XML front end: secure parsing, load-time rules, arg scopes, presence conditions.  Pure: no LSP here.
+"""Launch files: the dialect-independent model (``model``: elements with presence conditions,
+facts, ``LaunchAnalysis`` / ``LoadResult``), secure XML with exact ranges (``xml``), package
+discovery (``packages``), and the ROS 1 front end (``ros1/``: load-time rules, arg scopes,
+substitution args, the symbolic load).  A second dialect gets its own sub-package beside
+``ros1/`` producing the same model.  Pure: no LSP here.
 
 Public API::
 

@@ -93,7 +93,7 @@ class ErrorFact:
     fails it (an earlier error would stop roslaunch first: facts do not model that).
     Facts no assignment can trigger are dropped when the formula has few variables.
 
-    Codes (all registered in :data:`tvl_lsp.diagnostics.CODES`, area "launch"):
+    Codes (all registered in :data:`tvl_lsp.base.diagnostics.CODES`, area "launch"):
 
     - ``undefined-arg``: ``$(arg X)`` evaluated where X is not declared in scope
       (reached and not declared; roslaunch: "requires the 'X' arg to be set" or, inside an

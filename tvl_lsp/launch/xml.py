@@ -3,7 +3,7 @@
 lxml checks well-formedness (entities are never resolved, no DTD is loaded, nothing touches
 the network, huge trees are refused); a small scanner over the raw text finds the exact
 position of every start tag, attribute name and attribute value, and the two are matched in
-document order.  Columns are code points (see :mod:`tvl_lsp.text`).
+document order.  Columns are code points (see :mod:`tvl_lsp.base.text`).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The server's entry into the pure check pipeline (``tvl_lsp.check``), the same functions
+"""The server's entry into the pure check pipeline (``tvl_lsp.project.check``), the same functions
 ``tvl-lsp --check`` uses, so the editor and CI never disagree.  No pygls here: these run
 in worker threads on plain data (text + a reader over a snapshot of the open documents).
 """

@@ -4,7 +4,7 @@ Pure: no LSP here; files are read through ``read_file(path) -> str | None`` call
 
     check_paths(paths, read_file=None, jobs=None) -> list[Diagnostic]
         Discover ``.tvl``, ``.launch``, ``.launch.xml`` and HAROS project files under ``paths``
-        (files or folders), pair launch files with models (see :mod:`tvl_lsp.workspace`),
+        (files or folders), pair launch files with models (see :mod:`tvl_lsp.project.workspace`),
         analyse everything and return every diagnostic, deduplicated and sorted.  Large trees
         are analysed in parallel processes (``jobs``: None = one per CPU, 1 = serially); the
         output does not depend on ``jobs``.  With a custom ``read_file`` the work stays in this
@@ -17,8 +17,8 @@ Pure: no LSP here; files are read through ``read_file(path) -> str | None`` call
         problems and the cross-checks against each model it is paired with (or alone); a
         HAROS project file gets its YAML / missing-file diagnostics.  ``text`` is the current
         (possibly unsaved) content; ``roots`` are the workspace folders (default: found from
-        ``path`` by :func:`tvl_lsp.workspace.find_workspace_root`); pass a ``workspace``
-        (:func:`tvl_lsp.workspace.load_workspace`) to skip the file discovery.  ``timeout``
+        ``path`` by :func:`tvl_lsp.project.workspace.find_workspace_root`); pass a ``workspace``
+        (:func:`tvl_lsp.project.workspace.load_workspace`) to skip the file discovery.  ``timeout``
         bounds the model anomaly search (seconds).
 
     pairing_of(path, workspace=None, text=None) -> list[Pairing]

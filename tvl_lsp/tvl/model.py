@@ -1,6 +1,6 @@
 """The typed TVL model: what the parser builds and what the analyses read.
 
-Every element carries the :class:`~tvl_lsp.text.Span` of its source and the path of the
+Every element carries the :class:`~tvl_lsp.base.text.Span` of its source and the path of the
 file it was written in (``include`` makes models span several files).
 
 Design notes

@@ -4,7 +4,7 @@
 Writes configuration launch files (the thesis's Listing 6.1) for the products of the model
 paired with a generic launch file: each sets the feature args to true/false and includes the
 generic file through ``$(find pkg)``.  The same pure functions as the language server's
-"generate configuration launch files" action (``tvl_lsp.generate``).  Files are named after
+"generate configuration launch files" action (``tvl_lsp.project.generate``).  Files are named after
 the selected features, written under ``--out`` (default: ``configs`` in the launch file's
 package), never outside the workspace.  Prints one written path per line.
 """
