@@ -17,7 +17,7 @@ Public API::
 
 from .ros1.loader import analyse_launch, check_launch, load_launch
 from .model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
-                    ParamFact, Subst)
+                    ParamFact, RemapCase, Subst)
 from .packages import find_packages, guess_workspace_root
 from .xml import parse_xml
 
@@ -26,4 +26,4 @@ launch_diagnostics = check_launch
 
 __all__ = ["analyse_launch", "check_launch", "launch_diagnostics", "load_launch", "parse_launch", "parse_xml", "find_packages",
            "guess_workspace_root", "ArgDecl", "Attr", "Element", "ErrorFact", "IncludeFact", "LaunchAnalysis",
-           "LoadResult", "NodeFact", "ParamFact", "Subst"]
+           "LoadResult", "NodeFact", "ParamFact", "RemapCase", "Subst"]

@@ -66,6 +66,18 @@ class ArgDecl:
     element: Optional[Element] = None
 
 
+@dataclass(frozen=True)
+class RemapCase:
+    """A ``<remap>`` that applies to a node when ``condition`` holds (the node's condition, the
+    remap's own if/unless and its scope's; ``False`` where a later remap with the same ``from``
+    replaces it, as roslaunch does).  ``from_`` / ``to`` as written (canonicalized, not resolved:
+    the node resolves them in its own namespace)."""
+    from_: str
+    to: str
+    condition: Formula
+    element: Element
+
+
 @dataclass
 class NodeFact:
     """A node roslaunch loads when ``condition`` holds. ``name`` is the resolved global name
@@ -81,6 +93,8 @@ class NodeFact:
     args: str = ""
     remaps: list[tuple[str, str]] = field(default_factory=list)
     is_test: bool = False
+    # every remap that applies in some case, in roslaunch's order, with its condition
+    remap_cases: list[RemapCase] = field(default_factory=list)
 
 
 @dataclass

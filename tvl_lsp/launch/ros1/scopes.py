@@ -34,7 +34,8 @@ class Scope:
         self.include_names: Optional[dict[str, Formula]] = None
         self.pass_all = False
         self.params: list = []
-        self.remaps: list[tuple[str, str, Formula]] = []
+        # (from, to, condition, the <remap> element), in roslaunch's order
+        self.remaps: list[tuple[str, str, Formula, object]] = []
         self.env: list = []
         self.anon: dict[str, str] = {}
         self.passed: dict[str, Formula] = {}

@@ -8,7 +8,7 @@ from typing import Optional
 
 from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
 from ...base.diagnostics import Diagnostic
-from ..model import Element, NodeFact, ParamFact
+from ..model import Element, NodeFact, ParamFact, RemapCase
 from ..xml import XElement
 from .rules import (Cases, DUPLICATE_NODE, EMPTY_NS, ENV_INVALID, ILLEGAL_NAME, INVALID_VALUE,
                     LAUNCH_CHILD_TAGS, LAUNCH_IF_UNLESS, MACHINE_INVALID, MISSING_ATTRIBUTE, NODE_NAME_NS,
@@ -250,9 +250,11 @@ class TagRules:
                 nsn = child.ns if child.ns != "~" else "~/"
                 nsn = re.sub("//+", "/", make_global_ns(nsn)) if nsn != "~/" else nsn
                 full = ns_join(nsn, nm)
-                node_remaps = [(f, t) for f, t, rc in node_remap_scope.remaps if conj([rc, c]) != FALSE]
+                node_remaps = [(f, t) for f, t, rc, _ in node_remap_scope.remaps if conj([rc, c]) != FALSE]
                 nf = NodeFact(shown(full), shown(pkg1), shown(typ1), nsn, el, c, el.path, shown(argstr),
                               node_remaps, is_test)
+                nf.remap_cases = [RemapCase(shown(f), shown(t), rcc, rel) for f, t, rc, rel in node_remap_scope.remaps
+                                  for rcc in [conj([rc, c])] if rcc != FALSE]
                 for pname, pcases, pc in sc.params:
                     for vc, pv in pcases:
                         pcond = conj([c, pc, vc])
@@ -299,9 +301,9 @@ class TagRules:
                               self.aspan(el, "to"), c)
                     continue
                 nc = neg(c)
-                target.remaps = [(a, b, conj([rc, nc]) if a == f2 else rc) for a, b, rc in target.remaps]
+                target.remaps = [(a, b, conj([rc, nc]) if a == f2 else rc, rel) for a, b, rc, rel in target.remaps]
                 target.remaps = [r for r in target.remaps if r[2] != FALSE]
-                target.remaps.append((f2, t2, c))
+                target.remaps.append((f2, t2, c, el))
 
     def env_tag(self, x: XElement, el: Element, sc: Scope, cond: Formula, wrap: str = ""):
         if "name" not in x.attrs or "value" not in x.attrs:

@@ -1,0 +1,135 @@
+"""The variability-aware computation graph: plain data, no LSP types.
+
+Every element and link carries its *presence condition*: a formula over the launch file's
+feature args (:mod:`tvl_lsp.base.formula`) that holds in exactly the products where the
+element exists.  After a projection (:func:`tvl_lsp.graph.project`) a condition of ``None``
+means "in every remaining product".
+
+Ids are stable: computed from names on the graph of all products, kept by every projection,
+so a user interface can keep its layout while decisions change.
+
+- node ``node:/ns/name`` (``node:/ns/name#pkg/type`` when one name is used by nodes of several
+  types in different products);
+- topic ``topic:/name``, service ``service:/name``, parameter ``param:/name``;
+- link ``KIND:NODE-ID>RESOURCE-ID`` (``#type`` appended when the same node uses the same
+  resource in the same way with two types).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+from ..base.formula import Formula
+from ..base.text import Span
+
+LINK_KINDS = ("publish", "subscribe", "service", "client", "read", "write")
+RESOURCE_OF_KIND = {"publish": "topic", "subscribe": "topic", "service": "service", "client": "service",
+                    "read": "parameter", "write": "parameter"}
+
+
+@dataclass(frozen=True)
+class Location:
+    """Where something is written: a file, a range, and what it is (for related locations)."""
+    path: str
+    span: Span
+    label: str
+
+
+@dataclass
+class GraphNode:
+    id: str
+    name: str          # resolved global name, /ns/name
+    package: str
+    type: str
+    namespace: str     # /ns/
+    condition: Optional[Formula]
+    hinted: bool = False
+    note: Optional[str] = None
+    locations: list[Location] = field(default_factory=list)  # the <node> tags
+    hints: list[Location] = field(default_factory=list)      # the hint keys (pkg/type, /name)
+    count: Optional[int] = None
+    # each <node> tag with the condition under which it loads this node
+    occurrences: list[tuple[Location, Formula]] = field(default_factory=list)
+
+
+@dataclass
+class Resource:
+    """A topic, service or parameter."""
+    id: str
+    kind: str          # topic | service | parameter
+    name: str
+    condition: Optional[Formula]
+    # message / service / parameter types: type -> condition (links that use it)
+    types: dict[str, Optional[Formula]] = field(default_factory=dict)
+    value: Optional[str] = None   # parameters set by the launch file (first value)
+    locations: list[Location] = field(default_factory=list)  # <param> / <rosparam> tags
+    count: Optional[int] = None
+
+    @property
+    def type(self) -> Optional[str]:
+        """The one type every link agrees on (None: unknown, or several)."""
+        return next(iter(self.types)) if len(self.types) == 1 else None
+
+
+@dataclass
+class Via:
+    """One way a link arises: a hint entry, resolved (and maybe remapped) under a condition."""
+    name: str                     # the name as the node's code writes it (the hint)
+    type: Optional[str]
+    condition: Optional[Formula]
+    hint: Optional[Location]      # the hint entry
+    remap: Optional[Location]     # the <remap> that produced the resolved name (None: not remapped)
+
+
+@dataclass
+class Link:
+    id: str
+    node: str          # node id
+    resource: str      # resource id
+    kind: str          # publish | subscribe | service | client | read | write
+    condition: Optional[Formula]
+    type: Optional[str] = None
+    via: list[Via] = field(default_factory=list)
+    count: Optional[int] = None
+
+
+@dataclass(frozen=True)
+class RemapUse:
+    """A ``<remap>`` applying to a node under ``condition``; ``used``: the node (per its hints)
+    uses a name that resolves to the remap's ``from``; ``hinted``: the node has hints at all
+    (without them, whether it uses the name is unknown)."""
+    node: str          # node id
+    from_: str         # resolved in the node's namespace
+    to: str
+    condition: Formula
+    used: bool
+    hinted: bool
+
+
+@dataclass
+class Graph:
+    """The graph of a set of products of one launch file."""
+    launch: str
+    nodes: dict[str, GraphNode] = field(default_factory=dict)
+    resources: dict[str, Resource] = field(default_factory=dict)
+    links: dict[str, Link] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    hint_sources: list[str] = field(default_factory=list)
+    decisions: dict[str, bool] = field(default_factory=dict)
+    products: Optional[int] = None   # how many products the graph covers (when counted)
+    model: Optional[str] = None
+    # each <remap> that applies to some node: how it applies (for the remap-unused check)
+    remap_uses: dict[Location, list["RemapUse"]] = field(default_factory=dict)
+
+    def topics(self) -> list[Resource]:
+        return [r for r in self.resources.values() if r.kind == "topic"]
+
+    def services(self) -> list[Resource]:
+        return [r for r in self.resources.values() if r.kind == "service"]
+
+    def parameters(self) -> list[Resource]:
+        return [r for r in self.resources.values() if r.kind == "parameter"]
+
+    def links_of(self, resource_id: str, kinds: tuple[str, ...] = LINK_KINDS) -> list[Link]:
+        return [ln for ln in self.links.values() if ln.resource == resource_id and ln.kind in kinds]
