@@ -160,8 +160,10 @@ def _title(g: Graph) -> str:
 # ------------------------------------------------------------------ Mermaid
 
 def _m(s: str) -> str:
-    return (s.replace("&", "#amp;").replace('"', "#quot;").replace("<", "#lt;").replace(">", "#gt;")
-            .replace("|", "#124;"))
+    """Text inside a quoted Mermaid label: ``&&``, ``||``, ``!`` and parentheses are fine there
+    (entity codes such as ``#38;`` are not decoded in every renderer); quotes and angle brackets
+    (never in ROS names or feature names, but in hand-written hint types) are replaced."""
+    return s.replace('"', "#quot;").replace("<", "‹").replace(">", "›")
 
 
 def to_mermaid(g: Graph, parameters: bool = True) -> str:
