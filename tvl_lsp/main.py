@@ -11,6 +11,8 @@ usage:
                                     what roslaunch would load from FILE under these args
   tvl-lsp generate LAUNCH [--mode one|completions|all] ...
                                     configuration launch files for products of the model
+  tvl-lsp graph LAUNCH [--include F]... [--exclude F]... [--format json|dot|mermaid]
+                                    the computation graph of every product at once (docs/graph.md)
   tvl-lsp --version
 
 Exit status: 0 no error, 1 errors found, 2 usage or internal failure.
@@ -26,6 +28,7 @@ SUBCOMMANDS = {
     "launch": "tvl_lsp.cli.commands.launch",
     "generate": "tvl_lsp.cli.commands.generate",
     "check": "tvl_lsp.cli.commands.check",
+    "graph": "tvl_lsp.cli.commands.graph",
 }
 
 

@@ -1,0 +1,153 @@
+"""The computation graph of one launch file in its workspace: what ``tvl-lsp graph``, the check
+pipeline and the server's hover / ``tvl-lsp.graph`` command share.
+
+    ctx = load_graph(launch_path, text=None, read_file=None, roots=None, workspace=None,
+                     model=None, project_files=None)
+    ctx.project({"Teleop": True}, count=True)   # -> Graph (tvl_lsp.graph), then to_json / to_dot
+    ctx.diagnostics()                           # the graph checks (topic-without-publisher, ...)
+    ctx.close()
+
+The model is the launch file's pairing (:mod:`tvl_lsp.workspace`), unless ``model`` names one.
+Hints come from ``project_files`` if given, else from the HAROS project files whose
+configurations name the launch file, else from every project file of the workspace (their
+``nodes:`` sections; see :mod:`tvl_lsp.graph.hints`).  Pure: no LSP here.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Iterable, Mapping, Optional, Sequence
+
+from ..analysis.engine import ModelAnalysis
+from ..base.diagnostics import Diagnostic
+from ..graph import (Graph, GraphLogic, ProjectHints, build_graph, graph_diagnostics, parse_hints, project)
+from .workspace import Workspace, default_read_file, find_workspace_root, load_workspace, norm
+
+
+class GraphError(Exception):
+    """The graph cannot be built (a file that cannot be read, a model with syntax errors)."""
+
+
+@dataclass
+class GraphContext:
+    launch: str
+    model_path: Optional[str]
+    analysis: object                    # LaunchAnalysis
+    graph: Graph
+    logic: GraphLogic
+    hints: ProjectHints
+    model_analysis: Optional[ModelAnalysis] = None
+    configs: Optional[list[str]] = None
+    features: list[str] = field(default_factory=list)
+
+    def project(self, decisions: Optional[Mapping[str, bool]] = None, count: bool = False,
+                count_timeout: Optional[float] = 10.0) -> Graph:
+        """The graph of the products satisfying ``decisions`` (raises UnknownFeature / NoProducts)."""
+        return project(self.graph, self.logic, decisions or {}, count=count, count_timeout=count_timeout)
+
+    def diagnostics(self) -> list[Diagnostic]:
+        return graph_diagnostics(self.graph, self.logic, self.analysis)
+
+    def close(self) -> None:
+        self.logic.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def hints_for(ws: Workspace, launch: str, read_file=default_read_file,
+              project_files: Optional[Iterable[str]] = None) -> tuple[ProjectHints, Optional[list[str]]]:
+    """The hints that apply to ``launch`` and the names of the configurations that name it
+    (their per-node-name hints apply; None: all configurations)."""
+    launch = norm(launch)
+    configs: Optional[list[str]] = None
+    if project_files is not None:
+        files = [norm(p) for p in project_files]
+    else:
+        naming = [(pf, c) for pf in ws.projects for c in pf.configurations
+                  if any(norm(lf) == launch for lf, _ in c.launches)]
+        files = list(dict.fromkeys(pf.path for pf, _ in naming))
+        if naming:
+            configs = [c.name for _, c in naming if c.name]
+        else:
+            files = [pf.path for pf in ws.projects]
+    out = ProjectHints()
+    for f in files:
+        text = read_file(f)
+        if text is None:
+            if project_files is not None:
+                raise GraphError(f"cannot read the project file {f}")
+            continue
+        h = parse_hints(f, text)
+        if h or project_files is not None:
+            out = out.merge(h)
+    return out, configs
+
+
+def free_args_of(text: str, path: str) -> list[str]:
+    from .check import free_top_args
+    return free_top_args(text, path)
+
+
+def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: Optional[Sequence[str]] = None,
+               workspace: Optional[Workspace] = None, model: Optional[str] = None,
+               project_files: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None) -> GraphContext:
+    """Pair, parse, load symbolically and build the graph of ``launch`` (see the module doc)."""
+    from ..launch import analyse_launch
+    from ..tvl import parse_model
+    path = norm(launch)
+    base_read = read_file or default_read_file
+
+    def read(p: str) -> Optional[str]:
+        if text is not None and norm(p) == path:
+            return text
+        return base_read(p)
+
+    if text is None:
+        text = read(path)
+    if text is None:
+        raise GraphError(f"cannot read {launch}")
+    if workspace is None:
+        root = _root_for(path, roots)
+        workspace = load_workspace([root], read)
+    else:
+        root = workspace.roots[0] if workspace.roots else find_workspace_root(path)
+    model_path = norm(model) if model else None
+    if model_path is None:
+        pairings, _ = workspace.pair(path, text)
+        model_path = next((p.model for p in pairings if p.model is not None), None)
+    ma = None
+    enc = None
+    features: list[str] = []
+    if model_path is not None:
+        mtext = read(model_path)
+        if mtext is None:
+            raise GraphError(f"cannot read the model {model_path}")
+        res = parse_model(mtext, model_path, read_file=read)
+        from .check import STRUCTURAL
+        if res.model.root is None or any(d.code in STRUCTURAL for d in res.diagnostics):
+            raise GraphError(f"{os.path.basename(model_path)} has syntax errors: fix them first "
+                             "(tvl-lsp --check lists them)")
+        ma = ModelAnalysis(res.model)
+        enc = ma.encoding
+        features = [enc.name_of(f) for f in enc.features]
+    free = [n for n in free_args_of(text, path) if enc is None or enc.feature_by_name(n) is None]
+    analysis = analyse_launch(text, path, workspace_root=root, read_file=read, features=features + free, env=env)
+    hints, configs = hints_for(workspace, path, read, project_files)
+    graph = build_graph(analysis, hints, configs)
+    graph.model = model_path
+    logic = GraphLogic(enc, features + free, ma)
+    return GraphContext(path, model_path, analysis, graph, logic, hints, ma, configs, features + free)
+
+
+def _root_for(path: str, roots: Optional[Sequence[str]]) -> str:
+    if roots:
+        inside = [norm(r) for r in roots if path.startswith(norm(r).rstrip(os.sep) + os.sep)]
+        if inside:
+            return max(inside, key=len)
+    return find_workspace_root(path)
+
