@@ -17,7 +17,8 @@ from .checks import graph_diagnostics
 from .hints import HintEntry, NodeHints, ProjectHints, parse_hints
 from .model import Graph, GraphNode, Link, Location, Resource, Via
 from .names import resolve, resolve_remapped
-from .project import GraphLogic, NoProducts, UnknownFeature, project
+from .logic import GraphLogic
+from .project import NoProducts, UnknownFeature, project
 from .render import to_dot, to_json, to_mermaid
 
 __all__ = ["build_graph", "build_product_graph", "graph_diagnostics", "HintEntry", "NodeHints",

@@ -104,13 +104,16 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
         return f"node:{i.name}"
 
     link_types: dict[tuple, set] = {}
-    pending: list[tuple] = []  # (key, kind, nid, rid, type, via)
+    pending: list[tuple] = []  # (key, type, via)
+    node_conds: dict[str, list[Formula]] = {}
+    res_conds: dict[str, list[Formula]] = {}
+    type_conds: dict[tuple[str, str], list[Formula]] = {}
     for inst in instances:
         nid = node_id(inst)
         node = g.nodes.get(nid)
         if node is None:
             node = g.nodes[nid] = GraphNode(nid, inst.name, inst.package, inst.type, inst.namespace, FALSE)
-        node.condition = disj([node.condition, inst.condition])
+        node_conds.setdefault(nid, []).append(inst.condition)
         if inst.location is not None:
             if inst.location not in node.locations:
                 node.locations.append(inst.location)
@@ -133,12 +136,11 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
                     if lc == FALSE:
                         continue
                     rid = f"{RESOURCE_PREFIX[rkind]}:{rname}"
-                    res = g.resources.get(rid)
-                    if res is None:
-                        res = g.resources[rid] = Resource(rid, rkind, rname, FALSE)
-                    res.condition = disj([res.condition, lc])
+                    if rid not in g.resources:
+                        g.resources[rid] = Resource(rid, rkind, rname, FALSE)
+                    res_conds.setdefault(rid, []).append(lc)
                     if e.type:
-                        res.types[e.type] = disj([res.types.get(e.type) or FALSE, lc])
+                        type_conds.setdefault((rid, e.type), []).append(lc)
                     key = (nid, e.kind, rid)
                     link_types.setdefault(key, set()).add(e.type)
                     pending.append((key, e.type, Via(e.name, e.type, lc, hint_loc, origin)))
@@ -152,6 +154,7 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
             rf = N.resolve(f, inst.name)
             g.remap_uses.setdefault(origin, []).append(
                 RemapUse(nid, rf, N.resolve(t, inst.name), rc, rf in used, bool(hs)))
+    link_conds: dict[str, list[Formula]] = {}
     for key, typ, via in pending:
         nid, kind, rid = key
         lid = f"{kind}:{nid}>{rid}"
@@ -160,8 +163,17 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
         ln = g.links.get(lid)
         if ln is None:
             ln = g.links[lid] = Link(lid, nid, rid, kind, FALSE, typ)
-        ln.condition = disj([ln.condition, via.condition])
+        link_conds.setdefault(lid, []).append(via.condition)
         ln.via.append(via)
+    for nid, cs in node_conds.items():
+        g.nodes[nid].condition = disj(cs)
+    for rid, cs in res_conds.items():
+        g.resources[rid].condition = disj(cs)
+    for (rid, typ), cs in type_conds.items():
+        g.resources[rid].types[typ] = disj(cs)
+    for lid, cs in link_conds.items():
+        g.links[lid].condition = disj(cs)
+    param_conds: dict[str, list[Formula]] = {}
     for p in params:
         if p.condition == FALSE:
             continue
@@ -169,11 +181,14 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
         res = g.resources.get(rid)
         if res is None:
             res = g.resources[rid] = Resource(rid, "parameter", p.name, FALSE)
-        res.condition = disj([res.condition, p.condition])
+        param_conds.setdefault(rid, []).append(p.condition)
         if res.value is None:
             res.value = p.value
         if p.location is not None and p.location not in res.locations:
             res.locations.append(p.location)
+    for rid, cs in param_conds.items():
+        r = g.resources[rid]
+        r.condition = disj([r.condition] + cs)
     for node in g.nodes.values():
         if not node.hinted:
             node.note = (f"no hints for {node.package}/{node.type} in "

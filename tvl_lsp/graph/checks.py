@@ -30,7 +30,8 @@ from typing import Optional
 from ..base import formula as fm
 from ..base.diagnostics import Diagnostic, Related, Severity, register
 from .model import Graph, Link, Location
-from .project import GraphLogic, _simplifier
+from .logic import GraphLogic
+from .project import _simplifier, graph_variables
 
 TOPIC_WITHOUT_PUBLISHER = register(
     "topic-without-publisher", Severity.WARNING,
@@ -77,12 +78,23 @@ class _Ctx:
     def __init__(self, graph: Graph, logic: GraphLogic, analysis=None):
         self.g = graph
         self.logic = logic
+        self.o = logic.oracle(graph_variables(graph))
         self.launch = graph.launch
-        self.simp = _simplifier(logic, fm.TRUE)
+        self.simp = _simplifier(self.o, self.o.term(fm.TRUE))
         self.anchor = None
+        self._unhinted = None
         if analysis is not None:
             from ..analysis.crosscheck import _include_anchors
             self.anchor = _include_anchors(analysis)
+
+    def find(self, cond: fm.Formula) -> Optional[dict[str, bool]]:
+        """The smallest product where ``cond`` holds (None: no product)."""
+        if cond == fm.FALSE:
+            return None
+        t = self.o.term(cond)
+        if self.o.empty(t):
+            return None
+        return self.o.witness(t, cond)
 
     def holds(self, f: Optional[fm.Formula], w: dict[str, bool]) -> bool:
         return f is None or fm.evaluate(f, w)
@@ -127,8 +139,9 @@ class _Ctx:
         return out
 
     def unhinted_in(self, w) -> list[str]:
-        return sorted(n.name for n in self.g.nodes.values()
-                      if not n.hinted and n.condition is not None and fm.evaluate(n.condition, w))
+        if self._unhinted is None:
+            self._unhinted = [n for n in self.g.nodes.values() if not n.hinted and n.condition is not None]
+        return sorted(n.name for n in self._unhinted if fm.evaluate(n.condition, w))
 
     def diag(self, code: str, sev: Severity, anchor_loc: Optional[Location], w, message: str,
              related: list[Related], data: dict) -> Optional[Diagnostic]:
@@ -152,9 +165,7 @@ def _missing_side(ctx: _Ctx, code: str, have_kind: str, lack_kind: str) -> list[
             continue
         lack = g.links_of(r.id, (lack_kind,))
         cond = fm.conj([fm.disj(ln.condition for ln in have), fm.neg(fm.disj(ln.condition for ln in lack))])
-        if cond == fm.FALSE or not ctx.logic.sat(cond):
-            continue
-        w = ctx.logic.witness(cond)
+        w = ctx.find(cond)
         if w is None:
             continue
         shown = ctx.simp(cond)
@@ -199,7 +210,7 @@ def _type_mismatch(ctx: _Ctx) -> list[Diagnostic]:
         for i, t1 in enumerate(types):
             for t2 in types[i + 1:]:
                 c = fm.conj([r.types[t1] or fm.TRUE, r.types[t2] or fm.TRUE])
-                if c != fm.FALSE and ctx.logic.sat(c):
+                if c != fm.FALSE and not ctx.o.empty(ctx.o.term(c)):
                     found = (t1, t2, c)
                     break
             if found:
@@ -207,7 +218,7 @@ def _type_mismatch(ctx: _Ctx) -> list[Diagnostic]:
         if found is None:
             continue
         t1, t2, c = found
-        w = ctx.logic.witness(c)
+        w = ctx.find(c)
         if w is None:
             continue
         links = [ln for ln in g.links_of(r.id) if ctx.holds(ln.condition, w) and ln.type]
@@ -238,9 +249,7 @@ def _remap_unused(ctx: _Ctx) -> list[Diagnostic]:
         used = fm.disj(u.condition for u in uses if u.used)
         unknown = fm.disj(u.condition for u in uses if not u.hinted)
         cond = fm.conj([applies, fm.neg(used), fm.neg(unknown)])
-        if cond == fm.FALSE or not ctx.logic.sat(cond):
-            continue
-        w = ctx.logic.witness(cond)
+        w = ctx.find(cond)
         if w is None:
             continue
         here = [u for u in uses if fm.evaluate(u.condition, w)]
@@ -248,7 +257,7 @@ def _remap_unused(ctx: _Ctx) -> list[Diagnostic]:
         frm = here[0].from_ if here else ""
         uses_text = []
         for n in nodes:
-            names = sorted({v.name for ln in g.links.values() if ln.node == n.id for v in ln.via})
+            names = sorted({v.name for ln in g.links_from(n.id) for v in ln.via})
             uses_text.append(f"{n.name} uses " + (", ".join(f"`{x}`" for x in names[:6]) if names else "no names"))
         msg = (f"{loc.label} changes nothing: no node it applies to uses {frm} — "
                + "; ".join(uses_text[:4]) + _when(ctx.simp(cond), w))

@@ -132,4 +132,20 @@ class Graph:
         return [r for r in self.resources.values() if r.kind == "parameter"]
 
     def links_of(self, resource_id: str, kinds: tuple[str, ...] = LINK_KINDS) -> list[Link]:
-        return [ln for ln in self.links.values() if ln.resource == resource_id and ln.kind in kinds]
+        """The links to a resource (indexed on first use: do not add links afterwards)."""
+        idx = self.__dict__.get("_by_resource")
+        if idx is None or idx[0] != len(self.links):
+            by: dict[str, list[Link]] = {}
+            for ln in self.links.values():
+                by.setdefault(ln.resource, []).append(ln)
+            idx = self.__dict__["_by_resource"] = (len(self.links), by)
+        return [ln for ln in idx[1].get(resource_id, ()) if ln.kind in kinds]
+
+    def links_from(self, node_id: str) -> list[Link]:
+        idx = self.__dict__.get("_by_node")
+        if idx is None or idx[0] != len(self.links):
+            by: dict[str, list[Link]] = {}
+            for ln in self.links.values():
+                by.setdefault(ln.node, []).append(ln)
+            idx = self.__dict__["_by_node"] = (len(self.links), by)
+        return list(idx[1].get(node_id, ()))

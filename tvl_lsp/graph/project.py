@@ -8,24 +8,22 @@ force, and the model): an element no remaining product has is dropped; one every
 product has gets the condition ``None`` (drawn solid); the others keep a simplified condition
 (drawn dashed).  With every feature decided, the result is exactly that product's graph.
 
-The SAT questions go to the SAT service, :class:`~tvl_lsp.analysis.solve.PairLogic`
-(the model's CNF plus Tseitin-encoded conditions); counts to
-:meth:`tvl_lsp.analysis.engine.ModelAnalysis.count` (exact, cached).
+The questions go to an oracle of :class:`~tvl_lsp.graph.logic.GraphLogic` (a product table
+when the products are few enough to list, the SAT service otherwise); counts are exact (the
+table, or :meth:`tvl_lsp.analysis.engine.ModelAnalysis.count`).
 """
 
 from __future__ import annotations
 
 import copy
 import dataclasses
-import itertools
-from typing import Iterable, Mapping, Optional
+from typing import Mapping, Optional
 
 from ..base import formula as fm
-from ..analysis.solve import PairLogic
+from .logic import GraphLogic, Oracle
 from .model import Graph
 
 MAX_SIMPLIFY_SIZE = 40
-MAX_BRUTE_VARS = 20
 
 
 class NoProducts(Exception):
@@ -38,72 +36,6 @@ class NoProducts(Exception):
 
 class UnknownFeature(ValueError):
     pass
-
-
-class GraphLogic:
-    """The products a graph is about: a model's (``encoding``; None: no model, every name a
-    free boolean) with the launch file's other free args (``free_names``)."""
-
-    def __init__(self, encoding=None, free_names: Iterable[str] = (), analysis=None):
-        self.enc = encoding
-        self.analysis = analysis
-        self.free = [n for n in free_names if encoding is None or encoding.feature_by_name(n) is None]
-        self.pair = PairLogic(encoding, self.free)
-
-    def close(self) -> None:
-        self.pair.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-
-    def is_feature(self, name: str) -> bool:
-        return self.enc is not None and self.enc.feature_by_name(name) is not None
-
-    def known(self, name: str) -> bool:
-        return self.is_feature(name) or name in self.free
-
-    def names(self) -> list[str]:
-        """Every name a decision can be about."""
-        out = [self.enc.name_of(f) for f in self.enc.features] if self.enc is not None else []
-        return out + list(self.free)
-
-    def decision_formula(self, decisions: Mapping[str, bool]) -> fm.Formula:
-        return fm.conj(fm.Var(k) if v else fm.neg(fm.Var(k)) for k, v in decisions.items())
-
-    def sat(self, f: fm.Formula) -> bool:
-        return self.pair.sat(f)
-
-    def witness(self, f: fm.Formula) -> Optional[dict[str, bool]]:
-        return self.pair.witness(f)
-
-    # ------------------------------------------------------------------ counting
-    def count(self, f: fm.Formula, decisions: Mapping[str, bool], timeout: Optional[float] = 10.0) -> Optional[int]:
-        """Products satisfying ``f`` and the decisions (None: not countable here / in time)."""
-        d = self.decision_formula(decisions)
-        vs = fm.variables(f) | fm.variables(d)
-        if self.enc is not None and self.analysis is not None and all(self.is_feature(v) for v in vs):
-            inc = [k for k, v in decisions.items() if v]
-            exc = [k for k, v in decisions.items() if not v]
-            try:
-                if f == fm.FALSE:
-                    return 0
-                return self.analysis.count(include=inc, exclude=exc, formula=None if f == fm.TRUE else f,
-                                           timeout=timeout)
-            except Exception:
-                return None
-        if self.enc is not None:
-            return None  # conditions over args that are not features: not products of the model
-        # no model: assignments of the free args
-        g = fm.conj([f, d])
-        vs = sorted(fm.variables(g))
-        if len(vs) > MAX_BRUTE_VARS:
-            return None
-        n = sum(1 for bits in itertools.product((False, True), repeat=len(vs))
-                if fm.evaluate(g, dict(zip(vs, bits))))
-        return n * 2 ** (len(set(self.free) - set(vs)))
 
 
 def nnf(f: fm.Formula, positive: bool = True) -> fm.Formula:
@@ -128,50 +60,51 @@ def _size(f: fm.Formula) -> int:
     return 1
 
 
-def _simplifier(logic: GraphLogic, base: fm.Formula):
-    """Simplify formulas relative to ``base`` (the decisions) and the model, for display: in
-    negation normal form, a literal the context decides becomes a constant, a conjunct the
-    others imply and a disjunct that implies the others go.  Bounded: large formulas are
-    returned as they are."""
+def _simplifier(o: Oracle, base):
+    """Simplify formulas relative to the term ``base`` (the decisions; the model is in the
+    oracle), for display: in negation normal form, a literal the context decides becomes a
+    constant, a conjunct the others imply and a disjunct that implies the others go.  Bounded:
+    large formulas are returned as they are."""
     cache: dict[fm.Formula, fm.Formula] = {}
+    T, AND, NOT, EMPTY = o.term, o.and_, o.not_, o.empty
 
-    def sat(*fs: fm.Formula) -> bool:
-        return logic.sat(fm.conj(list(fs)))
-
-    def go(f: fm.Formula, ctx: fm.Formula) -> fm.Formula:
+    def go(f: fm.Formula, ctx) -> fm.Formula:
         if isinstance(f, fm.Const):
             return f
         if isinstance(f, (fm.Var, fm.Not)):
-            if not sat(ctx, f):
+            t = T(f)
+            if EMPTY(AND(ctx, t)):
                 return fm.FALSE
-            if not sat(ctx, fm.neg(f)):
+            if EMPTY(AND(ctx, NOT(t))):
                 return fm.TRUE
             return f
         args = list(f.args)
         if isinstance(f, fm.And):
             for _ in range(2):
                 for i in range(len(args)):
-                    args[i] = go(args[i], fm.conj([ctx] + args[:i] + args[i + 1:]))
+                    args[i] = go(args[i], AND(ctx, T(fm.conj(args[:i] + args[i + 1:]))))
                 g = fm.conj(args)
                 if not isinstance(g, fm.And):
                     return g
                 args = list(g.args)
             i = 0
             while i < len(args) and len(args) > 1:
-                if not sat(ctx, *(args[:i] + args[i + 1:]), fm.neg(args[i])):
+                rest = T(fm.conj(args[:i] + args[i + 1:]))
+                if EMPTY(AND(AND(ctx, rest), NOT(T(args[i])))):
                     del args[i]
                 else:
                     i += 1
             return fm.conj(args)
         for i in range(len(args)):
-            args[i] = go(args[i], fm.conj([ctx, fm.neg(fm.disj(args[:i] + args[i + 1:]))]))
+            args[i] = go(args[i], AND(ctx, NOT(T(fm.disj(args[:i] + args[i + 1:])))))
         g = fm.disj(args)
         if not isinstance(g, fm.Or):
             return g
         args = list(g.args)
         i = 0
         while i < len(args) and len(args) > 1:
-            if not sat(ctx, args[i], fm.neg(fm.disj(args[:i] + args[i + 1:]))):
+            rest = T(fm.disj(args[:i] + args[i + 1:]))
+            if EMPTY(AND(AND(ctx, T(args[i])), NOT(rest))):
                 del args[i]
             else:
                 i += 1
@@ -191,7 +124,19 @@ def _simplifier(logic: GraphLogic, base: fm.Formula):
     return simplify
 
 
-def check_decisions(logic: GraphLogic, decisions: Mapping[str, bool]) -> None:
+def graph_variables(graph: Graph) -> set[str]:
+    used: set[str] = set()
+    for el in list(graph.nodes.values()) + list(graph.resources.values()) + list(graph.links.values()):
+        if el.condition is not None:
+            used |= fm.variables(el.condition)
+    for uses in graph.remap_uses.values():
+        for u in uses:
+            used |= fm.variables(u.condition)
+    return used
+
+
+def check_known(logic: GraphLogic, decisions: Mapping[str, bool]) -> None:
+    """Raises UnknownFeature for a decision about a name that is no feature (nor free arg)."""
     unknown = [k for k in decisions if not logic.known(k)]
     if unknown:
         import difflib
@@ -201,8 +146,13 @@ def check_decisions(logic: GraphLogic, decisions: Mapping[str, bool]) -> None:
             m = difflib.get_close_matches(k, names, n=1)
             parts.append(f"`{k}`" + (f" (did you mean `{m[0]}`?)" if m else ""))
         raise UnknownFeature("unknown feature " + ", ".join(parts))
-    d = logic.decision_formula(decisions)
-    if not logic.sat(d):
+
+
+def check_decisions(logic: GraphLogic, decisions: Mapping[str, bool], o: Optional[Oracle] = None) -> Oracle:
+    """The oracle for these decisions; raises UnknownFeature / NoProducts."""
+    check_known(logic, decisions)
+    o = o or logic.oracle(decisions)
+    if o.empty(o.term(logic.decision_formula(decisions))):
         conflict = None
         if logic.analysis is not None and all(logic.is_feature(k) for k in decisions):
             try:
@@ -212,6 +162,7 @@ def check_decisions(logic: GraphLogic, decisions: Mapping[str, bool]) -> None:
         what = ", ".join(conflict) if conflict else ", ".join(
             ("" if v else "!") + k for k, v in decisions.items())
         raise NoProducts(f"no product satisfies these decisions (conflict: {what})", conflict)
+    return o
 
 
 def project(graph: Graph, logic: GraphLogic, decisions: Optional[Mapping[str, bool]] = None,
@@ -219,20 +170,22 @@ def project(graph: Graph, logic: GraphLogic, decisions: Optional[Mapping[str, bo
     """The graph of the products that satisfy ``decisions`` (feature / free arg -> selected).
     Raises :class:`UnknownFeature` or :class:`NoProducts`."""
     decisions = dict(decisions or {})
-    check_decisions(logic, decisions)
+    used = graph_variables(graph)
+    check_known(logic, decisions)
+    logic.count_timeout = count_timeout
+    o = logic.oracle(used | set(decisions))
+    check_decisions(logic, decisions, o)
     d = logic.decision_formula(decisions)
+    dt = o.term(d)
     # the names every remaining product gives the same value
-    used: set[str] = set()
-    for el in list(graph.nodes.values()) + list(graph.resources.values()) + list(graph.links.values()):
-        if el.condition is not None:
-            used |= fm.variables(el.condition)
     env: dict[str, fm.Formula] = {k: (fm.TRUE if v else fm.FALSE) for k, v in decisions.items()}
     for v in sorted(used - set(decisions)):
-        if not logic.sat(fm.conj([d, fm.Var(v)])):
+        t = o.term(fm.Var(v))
+        if o.empty(o.and_(dt, t)):
             env[v] = fm.FALSE
-        elif not logic.sat(fm.conj([d, fm.neg(fm.Var(v))])):
+        elif o.empty(o.and_(dt, o.not_(t))):
             env[v] = fm.TRUE
-    simp = _simplifier(logic, d) if simplify else (lambda f: f)
+    simp = _simplifier(o, dt) if simplify else (lambda f: f)
     memo: dict[fm.Formula, object] = {}
     GONE = object()
 
@@ -246,12 +199,14 @@ def project(graph: Graph, logic: GraphLogic, decisions: Optional[Mapping[str, bo
             out = GONE
         elif g == fm.TRUE:
             out = None
-        elif not logic.sat(fm.conj([d, g])):
-            out = GONE
-        elif not logic.sat(fm.conj([d, fm.neg(g)])):
-            out = None
         else:
-            out = simp(g)
+            t = o.term(g)
+            if o.empty(o.and_(dt, t)):
+                out = GONE
+            elif o.empty(o.and_(dt, o.not_(t))):
+                out = None
+            else:
+                out = simp(g)
         memo[f] = out
         return out
 
@@ -290,10 +245,14 @@ def project(graph: Graph, logic: GraphLogic, decisions: Optional[Mapping[str, bo
         if kept:
             out.remap_uses[loc] = kept
     if count:
-        out.products = logic.count(fm.TRUE, decisions, count_timeout)
+        counted: dict = {}
+
+        def how_many(c: Optional[fm.Formula]) -> Optional[int]:
+            f = fm.conj([d, c]) if c is not None else d
+            if f not in counted:
+                counted[f] = o.count(o.term(f), f)
+            return counted[f]
+        out.products = how_many(None)
         for el in list(out.nodes.values()) + list(out.resources.values()) + list(out.links.values()):
-            if el.condition is None:
-                el.count = out.products
-            else:
-                el.count = logic.count(el.condition, decisions, count_timeout)
+            el.count = out.products if el.condition is None else how_many(el.condition)
     return out
