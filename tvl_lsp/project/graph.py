@@ -151,3 +151,116 @@ def _root_for(path: str, roots: Optional[Sequence[str]]) -> str:
             return max(inside, key=len)
     return find_workspace_root(path)
 
+
+
+# ------------------------------------------------------------------ the server's entries
+
+class _RecordingReader:
+    """A reader that remembers what it read (to know when a cached graph is stale)."""
+
+    def __init__(self, read):
+        self.read = read
+        self.seen: dict[str, Optional[str]] = {}
+
+    def __call__(self, path: str) -> Optional[str]:
+        t = self.read(path)
+        self.seen[norm(path)] = t
+        return t
+
+
+_CACHE: dict[tuple, tuple[dict, GraphContext]] = {}
+CACHE_SIZE = 8
+
+
+def cached_graph(path: str, read_file=None, roots: Optional[Sequence[str]] = None) -> GraphContext:
+    """:func:`load_graph`, reusing the last context of ``path`` while every file it read (the
+    launch file, its includes, the model, the project files) has the same text."""
+    read = read_file or default_read_file
+    key = (norm(path), tuple(sorted(norm(r) for r in roots or ())))
+    hit = _CACHE.get(key)
+    if hit is not None:
+        seen, ctx = hit
+        if all(read(p) == t for p, t in seen.items()):
+            return ctx
+        _CACHE.pop(key, None)
+        ctx.close()
+    rec = _RecordingReader(read)
+    ctx = load_graph(path, read_file=rec, roots=roots)
+    if rec.seen.get(norm(path)) is None:
+        rec.seen[norm(path)] = read(path)
+    for pf in ctx.hints.sources:
+        rec.seen.setdefault(norm(pf), read(pf))
+    while len(_CACHE) >= CACHE_SIZE:
+        _, (_, old) = _CACHE.popitem()
+        old.close()
+    _CACHE[key] = (rec.seen, ctx)
+    return ctx
+
+
+def graph_document(path: str, read_file=None, roots: Optional[Sequence[str]] = None,
+                   decisions: Optional[Mapping[str, bool]] = None, count: bool = False) -> dict:
+    """The ``tvl-lsp.graph`` command: the graph's JSON (docs/graph.md) for these decisions, or
+    ``{"error": message, "conflict": [features] | None}``."""
+    from ..graph import NoProducts, UnknownFeature, to_json
+    try:
+        ctx = cached_graph(path, read_file, roots)
+        g = ctx.project(decisions or {}, count=count)
+    except (GraphError, UnknownFeature) as ex:
+        return {"error": str(ex), "conflict": None}
+    except NoProducts as ex:
+        return {"error": str(ex), "conflict": ex.conflict}
+    return to_json(g)
+
+
+@dataclass
+class NodeUse:
+    kind: str                 # publish | subscribe | service | client | read | write
+    name: str                 # resolved name
+    type: Optional[str]
+    condition: Optional[str]  # relative to the node being loaded (None: whenever it is)
+    written: list[str]        # the names as the hints write them
+    remap: Optional[str]      # the <remap> that renamed it
+
+
+@dataclass
+class NodeInfo:
+    name: str
+    package: str
+    type: str
+    hinted: bool
+    note: Optional[str]
+    uses: list[NodeUse]
+    hints: list[str]          # where the hints are ("haros.yaml:12")
+
+
+def node_info(path: str, span_start, read_file=None, roots: Optional[Sequence[str]] = None) -> list[NodeInfo]:
+    """The graph nodes a ``<node>`` tag of ``path`` (its start at ``span_start``) loads, with the
+    topics, services and parameters each uses and when (for the hover)."""
+    from ..analysis import formula as fm
+    from ..graph.project import _simplifier, graph_variables
+    ctx = cached_graph(path, read_file, roots)
+    g = ctx.graph
+    o = ctx.logic.oracle(graph_variables(g))
+    out = []
+    for n in g.nodes.values():
+        occ = [c for loc, c in n.occurrences if loc.path == norm(path) and loc.span.start == span_start]
+        if not occ:
+            continue
+        here = fm.disj(occ)
+        base = o.term(here)
+        if o.empty(base):
+            continue
+        simp = _simplifier(o, base)
+        uses = []
+        for ln in sorted(g.links_from(n.id), key=lambda x: (x.kind, g.resources[x.resource].name)):
+            c = fm.conj([here, ln.condition]) if ln.condition is not None else here
+            t = o.term(c)
+            if o.empty(t):
+                continue
+            rel = None if o.empty(o.and_(base, o.not_(t))) else str(simp(ln.condition))
+            remaps = [v.remap.label for v in ln.via if v.remap is not None]
+            uses.append(NodeUse(ln.kind, g.resources[ln.resource].name, ln.type, rel,
+                                sorted({v.name for v in ln.via}), remaps[0] if remaps else None))
+        hints = [f"{os.path.basename(h.path)}:{h.span.start.line + 1}" for h in n.hints]
+        out.append(NodeInfo(n.name, n.package, n.type, n.hinted, n.note, uses, hints))
+    return out
