@@ -62,6 +62,12 @@ def main(argv: list[str]) -> int:
     try:
         for d in ctx.hints.diagnostics:
             print(f"{d.path}:{d.span.start}: warning: {d.message} [{d.code}]", file=sys.stderr)
+        errors = [d for d in ctx.analysis.diagnostics if d.severity == 1]
+        for d in errors[:5]:
+            print(f"{d.path}:{d.span.start}: error: {d.message} [{d.code}]", file=sys.stderr)
+        if errors:
+            print(f"tvl-lsp graph: {os.path.basename(path)} has errors; the graph shows what could be read",
+                  file=sys.stderr)
         try:
             g = ctx.project(decisions, count=args.count)
         except UnknownFeature as ex:
