@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.diagnostics import CODES, Severity
+from tvl_lsp.base.diagnostics import CODES, Severity
 from tvl_lsp.graph import GraphLogic, build_graph, graph_diagnostics, parse_hints
 from tvl_lsp.launch import analyse_launch
 

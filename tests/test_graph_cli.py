@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from tvl_lsp.cli import main
+from tvl_lsp.main import main
 
 from graph_helpers import GRAPH_WS, ROBOT_LAUNCH, turtlerand_ws
 

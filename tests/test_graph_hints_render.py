@@ -11,7 +11,7 @@ import subprocess
 import pytest
 
 from tvl_lsp.graph import parse_hints, to_dot, to_json, to_mermaid
-from tvl_lsp.text import Pos, Span
+from tvl_lsp.base.text import Pos, Span
 
 from graph_helpers import ROBOT_LAUNCH, ROBOT_MODEL, ROBOT_PROJECT, setup
 

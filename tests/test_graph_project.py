@@ -15,7 +15,7 @@ from graph_helpers import GRAPH_WS, ROBOT_LAUNCH
 
 
 def _node_start(launch: Path, needle: str):
-    from tvl_lsp.text import Pos
+    from tvl_lsp.base.text import Pos
     for i, line in enumerate(launch.read_text().splitlines()):
         if needle in line:
             return Pos(i, line.index("<node"))

@@ -7,7 +7,7 @@ pipeline and the server's hover / ``tvl-lsp.graph`` command share.
     ctx.diagnostics()                           # the graph checks (topic-without-publisher, ...)
     ctx.close()
 
-The model is the launch file's pairing (:mod:`tvl_lsp.workspace`), unless ``model`` names one.
+The model is the launch file's pairing (:mod:`tvl_lsp.project.workspace`), unless ``model`` names one.
 Hints come from ``project_files`` if given, else from the HAROS project files whose
 configurations name the launch file, else from every project file of the workspace (their
 ``nodes:`` sections; see :mod:`tvl_lsp.graph.hints`).  Pure: no LSP here.
@@ -236,7 +236,7 @@ class NodeInfo:
 def node_info(path: str, span_start, read_file=None, roots: Optional[Sequence[str]] = None) -> list[NodeInfo]:
     """The graph nodes a ``<node>`` tag of ``path`` (its start at ``span_start``) loads, with the
     topics, services and parameters each uses and when (for the hover)."""
-    from ..analysis import formula as fm
+    from ..base import formula as fm
     from ..graph.project import _simplifier, graph_variables
     ctx = cached_graph(path, read_file, roots)
     g = ctx.graph
