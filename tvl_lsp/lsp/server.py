@@ -13,7 +13,7 @@ Settings (``initializationOptions`` or ``workspace/configuration`` section ``tvl
 
 Commands (``workspace/executeCommand``, see ``tvl_lsp.lsp.features.commands``): ``tvl-lsp.include``,
 ``tvl-lsp.exclude``, ``tvl-lsp.reset``, ``tvl-lsp.count``, ``tvl-lsp.listProducts``,
-``tvl-lsp.generateConfigurations``.
+``tvl-lsp.generateConfigurations``; ``tvl-lsp.graph`` (``tvl_lsp.lsp.features.graph``).
 
 The server keeps its own copy of every open document (unsaved editor text wins over disk:
 :meth:`TvlLanguageServer.read_file` consults open documents first), runs the same pure check

@@ -114,8 +114,10 @@ def _launch_own(analysis) -> list[Diagnostic]:
 
 def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], root: Optional[str],
                  read_file: Optional[ReadFile] = None, models: Optional[dict] = None,
-                 timeout: Optional[float] = 10.0) -> list[Diagnostic]:
-    """A launch file's diagnostics: its own, and the cross-checks of each pairing."""
+                 timeout: Optional[float] = 10.0, hints=None, configs: Optional[list[str]] = None
+                 ) -> list[Diagnostic]:
+    """A launch file's diagnostics: its own, the cross-checks of each pairing, and, with node
+    ``hints`` (:meth:`Workspace.hints_for`), the computation graph's checks."""
     from ..analysis.crosscheck import cross_check
     from ..launch import analyse_launch
     read_file = read_file or default_read_file
@@ -173,7 +175,24 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                 out += cross_check(la, None, None, launch_text=text)
         except Exception as exc:
             out.append(_internal(path, f"cross-check failed: {exc!r}"))
+        if hints:
+            out += _graph_findings(la, hints, configs, info, features, p)
     return out
+
+
+def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing) -> list[Diagnostic]:
+    """The computation graph's checks (tvl_lsp.graph.checks) of one pairing."""
+    from ..graph import GraphLogic, build_graph, graph_diagnostics
+    try:
+        g = build_graph(la, hints, configs)
+        if not any(n.hinted for n in g.nodes.values()):
+            return []
+        enc = info.analysis.encoding if info is not None else None
+        with GraphLogic(enc, features, info.analysis if info is not None else None) as logic:
+            found = graph_diagnostics(g, logic, la)
+        return [_note_pairing(d, p) for d in found] if info is not None else found
+    except Exception as exc:
+        return [_internal(la.path, f"graph check failed: {exc!r}")]
 
 
 _ARG_USE = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
@@ -264,6 +283,7 @@ class _Unit:
     launches: tuple                 # ((launch path, (Pairing, ...), workspace root), ...)
     root: Optional[str]
     timeout: Optional[float] = 10.0
+    hints: tuple = ()               # ((launch path, ProjectHints, configuration names | None), ...)
 
 
 def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnostic]:
@@ -276,9 +296,11 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
             models[unit.model] = info
             if info is not None:
                 out += info.diagnostics
+        hints = {lf: (h, c) for lf, h, c in unit.hints}
         for lf, pairings, root in unit.launches:
+            h, c = hints.get(lf, (None, None))
             try:
-                out += check_launch(lf, None, pairings, root, read_file, models, unit.timeout)
+                out += check_launch(lf, None, pairings, root, read_file, models, unit.timeout, h, c)
             except Exception as exc:
                 out.append(_internal(lf, f"check failed: {exc!r}"))
     except Exception as exc:
@@ -332,9 +354,16 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
     by_model: dict[str, list] = {}
     alone: list = []
     root_of: dict[str, str] = {}
+    hints_of: dict[str, tuple] = {}
     for lf in targets.launches:
         r, ws = ws_for(lf)
         root_of[lf] = r
+        try:
+            h, c = ws.hints_for(lf)
+            if h:
+                hints_of[lf] = (lf, h, c)
+        except Exception as exc:
+            pre.append(_internal(lf, f"reading node hints failed: {exc!r}"))
         try:
             pairings, pdiags = ws.pair(lf)
         except Exception as exc:
@@ -350,10 +379,12 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
     for m in sorted(set(by_model) | target_models):
         lfs = tuple(by_model.get(m, ()))
         root = root_of[lfs[0][0]] if lfs else ws_for(m)[0]
-        units.append(_Unit(m, m in target_models, lfs, root, timeout))
+        units.append(_Unit(m, m in target_models, lfs, root, timeout,
+                           tuple(hints_of[x[0]] for x in lfs if x[0] in hints_of)))
     for i in range(0, len(alone), LAUNCH_BATCH):
         batch = tuple(alone[i:i + LAUNCH_BATCH])
-        units.append(_Unit(None, False, batch, root_of[batch[0][0]], timeout))
+        units.append(_Unit(None, False, batch, root_of[batch[0][0]], timeout,
+                           tuple(hints_of[x[0]] for x in batch if x[0] in hints_of)))
     nfiles = len(targets.launches) + len(targets.models) + len(targets.yamls)
     return units, pre, nfiles
 
@@ -444,7 +475,8 @@ def check_document(path: str, text: Optional[str] = None, read_file: Optional[Re
         rts = _roots_for(path, roots)
         ws = workspace or _workspace(rts, read)
         pairings, pdiags = ws.pair(path, text)
-        out = list(pdiags) + check_launch(path, text, pairings, rts[0], read, None, timeout)
+        hints, configs = ws.hints_for(path)
+        out = list(pdiags) + check_launch(path, text, pairings, rts[0], read, None, timeout, hints, configs)
         return _dedupe_sort(d for d in out if d.path == path)
     if is_yaml(path):
         from .workspace import parse_project

@@ -61,31 +61,18 @@ class GraphContext:
 
 def hints_for(ws: Workspace, launch: str, read_file=default_read_file,
               project_files: Optional[Iterable[str]] = None) -> tuple[ProjectHints, Optional[list[str]]]:
-    """The hints that apply to ``launch`` and the names of the configurations that name it
-    (their per-node-name hints apply; None: all configurations)."""
-    launch = norm(launch)
-    configs: Optional[list[str]] = None
-    if project_files is not None:
-        files = [norm(p) for p in project_files]
-    else:
-        naming = [(pf, c) for pf in ws.projects for c in pf.configurations
-                  if any(norm(lf) == launch for lf, _ in c.launches)]
-        files = list(dict.fromkeys(pf.path for pf, _ in naming))
-        if naming:
-            configs = [c.name for _, c in naming if c.name]
-        else:
-            files = [pf.path for pf in ws.projects]
+    """The hints that apply to ``launch`` (:meth:`Workspace.hints_for`), or those of the given
+    ``project_files``; and the names of the configurations whose per-node-name hints apply
+    (None: all)."""
+    if project_files is None:
+        return ws.hints_for(launch)
     out = ProjectHints()
-    for f in files:
+    for f in (norm(p) for p in project_files):
         text = read_file(f)
         if text is None:
-            if project_files is not None:
-                raise GraphError(f"cannot read the project file {f}")
-            continue
-        h = parse_hints(f, text)
-        if h or project_files is not None:
-            out = out.merge(h)
-    return out, configs
+            raise GraphError(f"cannot read the project file {f}")
+        out = out.merge(parse_hints(f, text))
+    return out, None
 
 
 def free_args_of(text: str, path: str) -> list[str]:

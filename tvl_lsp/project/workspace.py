@@ -49,6 +49,7 @@ from typing import Callable, Iterable, Optional
 
 from ..base.diagnostics import Diagnostic, Severity, register
 from ..base.text import LineIndex, Pos, Span
+from ..graph.hints import ProjectHints, parse_hints
 
 ReadFile = Callable[[str], Optional[str]]
 
@@ -306,6 +307,8 @@ class ProjectFile:
     path: str
     configurations: list[ProjectConfiguration] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    # the node hints (`nodes:` and per-configuration `hints:`, tvl_lsp.graph.hints)
+    hints: ProjectHints = field(default_factory=ProjectHints)
 
 
 def _mark_pos(mark) -> Pos:
@@ -461,6 +464,8 @@ def parse_project(path: str, text: str, packages: dict) -> Optional[ProjectFile]
         diag(INVALID_PROJECT, _node_span(key_node), "`configurations` is empty", Severity.WARNING)
     else:
         diag(INVALID_PROJECT, _node_span(node), "`configurations` must be a mapping or a list of configurations")
+    pf.hints = parse_hints(path, text)
+    pf.diagnostics += pf.hints.diagnostics
     return pf
 
 
@@ -544,6 +549,22 @@ class Workspace:
             s = set(self.files.models)
             object.__setattr__(self, "_models_cache", s)
         return s
+
+    def hints_for(self, launch: str) -> tuple[ProjectHints, Optional[list[str]]]:
+        """The node hints that apply to ``launch``: those of the project files whose
+        configurations name it (with those configurations' names, for per-node-name hints);
+        when none names it, those of every project file of the workspace (configurations:
+        None, all)."""
+        launch = norm(launch)
+        naming = [(pf, c) for pf in self.projects for c in pf.configurations
+                  if any(norm(lf) == launch for lf, _ in c.launches)]
+        files = list(dict.fromkeys(pf.path for pf, _ in naming)) if naming else [pf.path for pf in self.projects]
+        configs = [c.name for _, c in naming if c.name] if naming else None
+        out = ProjectHints()
+        for pf in self.projects:
+            if pf.path in files and pf.hints:
+                out = out.merge(pf.hints)
+        return out, configs
 
     def launches_for_model(self, model: str) -> list[Pairing]:
         """Every pairing of a launch file of this workspace with ``model``."""

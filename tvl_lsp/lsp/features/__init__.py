@@ -13,6 +13,7 @@ FEATURE_MODULES = (
     "code_actions",
     "code_lens",
     "commands",      # configurator + configuration generation
+    "graph",         # the computation graph command (hover uses it too)
 )
 
 

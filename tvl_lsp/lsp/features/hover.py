@@ -261,4 +261,7 @@ async def element_markdown(ls, doc, el) -> str:
         else:
             lines.append("")
             lines.append("products: counting… (hover again in a moment)")
+    if el.tag == "node" and el.path == doc.path and text != "false":
+        from .graph import node_markdown
+        lines += await node_markdown(ls, doc, el)
     return "\n".join(lines)
