@@ -105,3 +105,52 @@ def test_console_script_in_a_fresh_process():
                        capture_output=True, text=True, timeout=120, cwd=str(GRAPH_WS))
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout)["decisions"] == {"Nav": False}
+
+
+# ------------------------------------------------------------------ tvl-lsp --check
+
+def _check_json(path, capsys):
+    code = main(["--check", str(path), "--format", "json", "-q"])
+    out = capsys.readouterr().out
+    return code, json.loads(out)
+
+
+def test_check_reports_graph_findings_with_witnesses(capsys):
+    code, diags = _check_json(GRAPH_WS, capsys)
+    assert code == 0  # warnings only
+    pub = [d for d in diags if d["code"] == "topic-without-publisher"]
+    assert sorted(d["message"].split()[1] for d in pub) == ["/base/cmd_vel", "/camera_info",
+                                                           "/diag/logger/level_changes", "/sensors/camera/image_raw"]
+    d = next(d for d in pub if "/base/cmd_vel" in d["message"])
+    assert d["witness"] == {"Robot": True, "Base": True, "Diff": True, "Omni": False, "Camera": False,
+                            "Compress": False, "Teleop": False, "Nav": False}
+    assert any(r["path"].endswith("haros.yaml") for r in d["related"])
+    # the included fragment (no project names it) is not checked as an application on its own
+    assert not any(d["path"].endswith("camera.launch") for d in diags)
+    codes = {d["code"] for d in diags}
+    assert {"topic-type-mismatch", "remap-unused", "topic-without-subscriber"} <= codes
+
+
+def test_check_no_finding_when_every_product_is_connected(capsys, tmp_path):
+    ws = turtlerand_ws(tmp_path)
+    model = ws / "src" / "turtlerand" / "launch" / "generic.tvl"
+    model.write_text(model.read_text().replace("!Multiplexer -> !(Teleop && Random);",
+                                               "!Multiplexer -> !(Teleop && Random);\n  Turtlesim -> (Teleop || Random);"))
+    code, diags = _check_json(ws, capsys)
+    assert code == 0
+    assert not [d for d in diags if d["code"].startswith("topic-") or d["code"] == "remap-unused"]
+    # and without the constraint: the simulator alone has no publisher
+    model.write_text(model.read_text().replace("\n  Turtlesim -> (Teleop || Random);", ""))
+    code, diags = _check_json(ws, capsys)
+    pub = [d for d in diags if d["code"] == "topic-without-publisher"]
+    assert len(pub) == 1 and pub[0]["witness"] == {"Turtlerand": True, "Turtlesim": True, "Teleop": False,
+                                                   "Random": False, "Multiplexer": False, "Vel": False}
+
+
+def test_check_reports_invalid_hints_on_the_project_file(capsys, tmp_path):
+    ws = turtlerand_ws(tmp_path)
+    pf = ws / "haros.yaml"
+    pf.write_text(pf.read_text().replace("    subscribe:\n      /turtle1/cmd_vel", "    subscibe:\n      /turtle1/cmd_vel", 1))
+    code, diags = _check_json(ws, capsys)
+    bad = [d for d in diags if d["code"] == "invalid-hint"]
+    assert len(bad) == 1 and bad[0]["path"].endswith("haros.yaml") and "did you mean `subscribe`?" in bad[0]["message"]

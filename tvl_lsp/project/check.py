@@ -359,7 +359,7 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
         r, ws = ws_for(lf)
         root_of[lf] = r
         try:
-            h, c = ws.hints_for(lf)
+            h, c = ws.hints_for(lf, named_only=True)
             if h:
                 hints_of[lf] = (lf, h, c)
         except Exception as exc:
@@ -475,7 +475,7 @@ def check_document(path: str, text: Optional[str] = None, read_file: Optional[Re
         rts = _roots_for(path, roots)
         ws = workspace or _workspace(rts, read)
         pairings, pdiags = ws.pair(path, text)
-        hints, configs = ws.hints_for(path)
+        hints, configs = ws.hints_for(path, named_only=True)
         out = list(pdiags) + check_launch(path, text, pairings, rts[0], read, None, timeout, hints, configs)
         return _dedupe_sort(d for d in out if d.path == path)
     if is_yaml(path):

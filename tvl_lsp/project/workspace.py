@@ -550,14 +550,17 @@ class Workspace:
             object.__setattr__(self, "_models_cache", s)
         return s
 
-    def hints_for(self, launch: str) -> tuple[ProjectHints, Optional[list[str]]]:
+    def hints_for(self, launch: str, named_only: bool = False) -> tuple[ProjectHints, Optional[list[str]]]:
         """The node hints that apply to ``launch``: those of the project files whose
         configurations name it (with those configurations' names, for per-node-name hints);
         when none names it, those of every project file of the workspace (configurations:
-        None, all)."""
+        None, all) -- or none with ``named_only`` (the check pipeline: a launch file no project
+        names is a fragment, included by the applications that are named)."""
         launch = norm(launch)
         naming = [(pf, c) for pf in self.projects for c in pf.configurations
                   if any(norm(lf) == launch for lf, _ in c.launches)]
+        if not naming and named_only:
+            return ProjectHints(), None
         files = list(dict.fromkeys(pf.path for pf, _ in naming)) if naming else [pf.path for pf in self.projects]
         configs = [c.name for _, c in naming if c.name] if naming else None
         out = ProjectHints()
