@@ -232,3 +232,19 @@ def test_projection_without_model():
             ("subscribe", "/chatter", "!fast")}
         q = project(g, logic, {"fast": False})
         assert {p.resources[ln.resource].name for ln in q.links.values()} == {"/chatter"}
+
+
+def test_void_model_has_no_graph(tmp_path):
+    from tvl_lsp.analysis.engine import ModelAnalysis
+    from tvl_lsp.graph import GraphLogic, build_graph, graph_diagnostics
+    from tvl_lsp.launch import analyse_launch
+    from tvl_lsp.tvl import parse_model
+    m = parse_model("root R { group allOf { A } A -> !A; }", "/x/m.tvl").model
+    ma = ModelAnalysis(m)
+    a = analyse_launch('<launch><arg name="R"/><arg name="A"/><node pkg="p" type="t" name="n" if="$(arg A)"/></launch>',
+                       "/x/a.launch", features=["R", "A"])
+    g = build_graph(a)
+    with GraphLogic(ma.encoding, ["R", "A"], ma) as logic:
+        with pytest.raises(NoProducts, match="void"):
+            project(g, logic, {})
+        assert graph_diagnostics(g, logic, a) == []

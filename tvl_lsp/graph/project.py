@@ -153,6 +153,8 @@ def check_decisions(logic: GraphLogic, decisions: Mapping[str, bool], o: Optiona
     check_known(logic, decisions)
     o = o or logic.oracle(decisions)
     if o.empty(o.term(logic.decision_formula(decisions))):
+        if not decisions:
+            raise NoProducts("the model has no product (it is void: tvl-lsp --check explains why)")
         conflict = None
         if logic.analysis is not None and all(logic.is_feature(k) for k in decisions):
             try:

@@ -218,6 +218,7 @@ class NodeInfo:
     note: Optional[str]
     uses: list[NodeUse]
     hints: list[str]          # where the hints are ("haros.yaml:12")
+    hints_available: bool = True  # the workspace has node hints at all
 
 
 def node_info(path: str, span_start, read_file=None, roots: Optional[Sequence[str]] = None) -> list[NodeInfo]:
@@ -249,5 +250,5 @@ def node_info(path: str, span_start, read_file=None, roots: Optional[Sequence[st
             uses.append(NodeUse(ln.kind, g.resources[ln.resource].name, ln.type, rel,
                                 sorted({v.name for v in ln.via}), remaps[0] if remaps else None))
         hints = [f"{os.path.basename(h.path)}:{h.span.start.line + 1}" for h in n.hints]
-        out.append(NodeInfo(n.name, n.package, n.type, n.hinted, n.note, uses, hints))
+        out.append(NodeInfo(n.name, n.package, n.type, n.hinted, n.note, uses, hints, bool(ctx.hints)))
     return out

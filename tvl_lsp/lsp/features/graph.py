@@ -94,7 +94,8 @@ async def node_markdown(ls, doc, el) -> list[str]:
         where = f" (hints: {', '.join(info.hints)})" if info.hints else ""
         lines.append(f"**ROS node** `{info.name}` — `{info.package}/{info.type}`{where}")
         if not info.hinted:
-            lines.append(f"- {info.note}")
+            lines.append(f"- {info.note}" if info.hints_available else
+                         "- topics unknown: no node hints (a HAROS project file's `nodes:`, see docs/graph.md)")
             continue
         if not info.uses:
             lines.append("- uses no topics, services or parameters (per its hints)")
