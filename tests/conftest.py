@@ -1,9 +1,24 @@
-"""Shared pytest options.
+"""Test-suite wide options and fixtures.
 
-``--corpus DIR``: the folder of the shared corpus (``corpus/`` beside the repository on our
-machines).  Tests marked ``@pytest.mark.corpus`` get it from the ``corpus_dir`` fixture; without
-``--corpus`` they are deselected (not skipped): the default suite never reads outside the
-repository.
+The default suite needs nothing outside the repository: its fixtures live in ``tests/data``
+(and ``examples/``).  Tests that run over third-party material that cannot live in the
+repository (the thesis's workspace, real robots' launch files, roslaunch's and the TVL
+reference's own test files: ``shared/corpus`` on our machines) form the opt-in *corpus suite*:
+
+* mark them ``@pytest.mark.corpus`` (a whole module: ``pytestmark = pytest.mark.corpus``);
+* take the folder from the ``corpus_dir`` fixture (a :class:`pathlib.Path`), never from a path
+  of their own;
+* run them with ``--corpus DIR``; without it they are *deselected*, not skipped, so that a
+  fresh clone reports no skips for material it cannot have::
+
+      .venv/bin/pytest --corpus ../shared/corpus              # the default suite + the corpus suite
+      .venv/bin/pytest -m corpus --corpus ../shared/corpus    # the corpus suite alone
+
+A test parametrized over the corpus's files at collection time reads the folder with
+:func:`corpus_option` (``None`` without ``--corpus``) in ``pytest_generate_tests``.
+
+A test may skip only when an optional external program is absent (roslaunch, Neovim, Emacs,
+Node.js); its reason says how to install it (``tests/testenv.py`` has the probes and reasons).
 """
 
 from __future__ import annotations
@@ -13,28 +28,57 @@ from pathlib import Path
 import pytest
 
 
-def pytest_addoption(parser):
-    parser.addoption("--corpus", action="store", default=None, metavar="DIR",
-                     help="the shared corpus folder; enables the tests marked 'corpus'")
+def pytest_addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("tvl-lsp")
+    group.addoption("--corpus", metavar="DIR", default=None,
+                    help="also run the tests marked `corpus` over this folder (on our machines: "
+                         "../shared/corpus); without it they are deselected")
 
 
-def pytest_collection_modifyitems(config, items):
-    if config.getoption("--corpus"):
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line(
+        "markers", "corpus: runs over the third-party corpus given with --corpus DIR "
+                   "(deselected without it); get the folder from the corpus_dir fixture")
+    value = config.getoption("corpus")
+    if value is not None:
+        path = Path(value).expanduser()
+        if not path.is_dir():
+            raise pytest.UsageError(f"--corpus {value}: no such folder")
+        config.option.corpus = str(path.resolve())
+
+
+def corpus_option(config: pytest.Config) -> Path | None:
+    """The folder given with ``--corpus`` (absolute), or None."""
+    value = config.getoption("corpus")
+    return Path(value) if value else None
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    # a test that reads the corpus without the marker would fail on a fresh clone: refuse it
+    unmarked = [item.nodeid for item in items if "corpus_dir" in getattr(item, "fixturenames", ())
+                and item.get_closest_marker("corpus") is None]
+    if unmarked:
+        raise pytest.UsageError("these tests use corpus_dir without @pytest.mark.corpus: " + ", ".join(unmarked))
+    if corpus_option(config) is not None:
         return
-    keep, drop = [], []
+    kept, deselected = [], []
     for item in items:
-        (drop if item.get_closest_marker("corpus") else keep).append(item)
-    if drop:
-        config.hook.pytest_deselected(items=drop)
-        items[:] = keep
+        (deselected if item.get_closest_marker("corpus") else kept).append(item)
+    if deselected:
+        config.hook.pytest_deselected(items=deselected)
+        items[:] = kept
+
+
+def pytest_report_header(config: pytest.Config) -> str:
+    corpus = corpus_option(config)
+    return f"corpus: {corpus}" if corpus else "corpus: none (tests marked `corpus` deselected; --corpus DIR runs them)"
 
 
 @pytest.fixture(scope="session")
-def corpus_dir(request) -> Path:
-    d = request.config.getoption("--corpus")
-    if not d:
-        pytest.skip("no --corpus DIR given")
-    p = Path(d).resolve()
-    if not p.is_dir():
-        pytest.fail(f"--corpus {d}: not a folder")
-    return p
+def corpus_dir(request: pytest.FixtureRequest) -> Path:
+    """The corpus folder given with ``--corpus`` (absolute).  Only tests marked ``corpus`` may
+    use it: they are the only ones that run with the folder there."""
+    corpus = corpus_option(request.config)
+    if corpus is None:  # unreachable: unmarked users are refused at collection, marked ones deselected
+        pytest.fail("corpus_dir needs --corpus DIR")
+    return corpus

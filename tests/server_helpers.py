@@ -3,16 +3,13 @@
 from __future__ import annotations
 
 import asyncio
-import shutil
 import sys
 from pathlib import Path
 
 from lsprotocol import types
 from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
 
-REPO = Path(__file__).resolve().parents[1]
-SHARED = REPO.parent / "shared"
-THESIS_WS = SHARED / "corpus" / "thesis" / "ws"
+from testenv import REPO, make_ws
 
 PROFILES = ["neovim", "visual-studio-code"]
 
@@ -21,9 +18,8 @@ CONFIG = ClientServerConfig(server_command=[sys.executable, "-m", "tvl_lsp"],
 
 
 def copy_ws(tmp_path: Path) -> Path:
-    dst = tmp_path / "ws"
-    shutil.copytree(THESIS_WS, dst)
-    return dst
+    """A scratch copy of the test workspace (examples/ws + tests/data/ws) in ``tmp_path``."""
+    return make_ws(tmp_path / "ws")
 
 
 def capabilities(profile: str) -> types.ClientCapabilities:

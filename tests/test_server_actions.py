@@ -12,6 +12,7 @@ import pytest_lsp
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 
+from testenv import ROSLAUNCH_MISSING, have_roslaunch
 from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, diagnostics,
                             install_client_handlers, open_doc, start)
 
@@ -68,7 +69,7 @@ async def test_add_missing_arg_action_removes_the_diagnostic(client: LanguageCli
     edits = fix[0].edit.changes[uri]
     new_text = apply_text_edits(text, edits)
     # inserted after the last top-level arg, with the file's indentation
-    assert '  <arg name="Teleop"/>\n  <arg name="Random"/>\n' in new_text
+    assert '  <arg name="Multiplexer"/>\n  <arg name="Random"/>\n' in new_text
     _change_all(client, uri, new_text, 2)
     diags = await diagnostics(client, uri, lambda ds: "missing-arg" not in codes(ds))
     assert "missing-arg" not in codes(diags)
@@ -121,14 +122,6 @@ print(json.dumps(out))
 """
 
 
-def _roslaunch_available() -> bool:
-    try:
-        return subprocess.run(["/usr/bin/python3", "-c", "import roslaunch"], capture_output=True,
-                              timeout=30).returncode == 0
-    except (OSError, subprocess.TimeoutExpired):
-        return False
-
-
 async def test_generate_turtlerand_configurations(client: LanguageClient):
     path = client.ws / "src/turtlerand/launch/generic.launch"
     uri = open_doc(client, path)
@@ -150,8 +143,8 @@ async def test_generate_turtlerand_configurations(client: LanguageClient):
     res = await client.workspace_execute_command_async(types.ExecuteCommandParams(
         command="tvl-lsp.generateConfigurations", arguments=[gen[0].data["tvl-lsp.generate"]]))
     assert sorted(Path(f) for f in res["files"]) == files and res["applied"]
-    if not _roslaunch_available():
-        pytest.skip("Debian's roslaunch is not installed")
+    if not have_roslaunch():
+        pytest.skip(ROSLAUNCH_MISSING)
     jobs = [{"file": str(f), "args": {}, "package_path": str(client.ws / "src")} for f in files]
     out = subprocess.run(["/usr/bin/python3", "-c", ROSLAUNCH],
                          input=json.dumps(jobs), capture_output=True, text=True, timeout=120)
@@ -175,25 +168,25 @@ async def test_generation_refuses_a_folder_outside_the_workspace(client: Languag
 
 
 async def test_configurator_commands(client: LanguageClient):
-    path = client.ws / "src/lizi/launch/generic.tvl"
+    path = client.ws / "src/scout/launch/generic.tvl"
     uri = open_doc(client, path)
 
     async def run(cmd, *args):
         return await client.workspace_execute_command_async(types.ExecuteCommandParams(
             command=cmd, arguments=[uri, *args]))
     c = await run("tvl-lsp.count")
-    assert c["total"] == 2304 and c["remaining"] == 2304
-    r = await run("tvl-lsp.include", "Gmapping")
-    assert r["forced"].get("Move_base") is True and r["forced"].get("Lidar") is True
-    assert r["conflict"] is None and 0 < r["remaining"] < 2304
-    r2 = await run("tvl-lsp.exclude", "Lidar")
-    assert r2["conflict"] is not None and set(r2["conflict"]) == {"Gmapping", "Lidar"}
-    r3 = await run("tvl-lsp.reset", "Lidar")
+    assert c["total"] == 1152 and c["remaining"] == 1152
+    r = await run("tvl-lsp.include", "Slam")
+    assert r["forced"].get("Planner") is True and r["forced"].get("Laser") is True
+    assert r["conflict"] is None and r["remaining"] == 288
+    r2 = await run("tvl-lsp.exclude", "Laser")
+    assert r2["conflict"] is not None and set(r2["conflict"]) == {"Slam", "Laser"}
+    r3 = await run("tvl-lsp.reset", "Laser")
     assert r3["conflict"] is None and r3["remaining"] == r["remaining"]
     lst = await run("tvl-lsp.listProducts", 5)
-    assert len(lst["products"]) == 5 and all("Gmapping" in p for p in lst["products"])
+    assert len(lst["products"]) == 5 and all("Slam" in p for p in lst["products"])
     r4 = await run("tvl-lsp.reset")
-    assert r4["remaining"] == 2304
+    assert r4["remaining"] == 1152
 
 
 async def test_tvl_quick_fixes_for_grammar_and_unknown_names(client: LanguageClient):
@@ -238,7 +231,7 @@ async def test_generate_every_completion_of_the_configurators_decisions(client: 
             command="tvl-lsp.generateConfigurations",
             arguments=[{"uri": uri, "mode": "completions", "folder": "completions"}]))
         files = sorted(Path(f).name for f in res["files"])
-        assert files == ["generic_turtlesim-teleop-random.launch", "generic_turtlesim-teleop.launch"]
+        assert files == ["generic_turtlesim-teleop-random-vel-multiplexer.launch", "generic_turtlesim-teleop.launch"]
         assert all((client.ws / "src/turtlerand/completions" / f).is_file() for f in files)
         one = await client.workspace_execute_command_async(types.ExecuteCommandParams(
             command="tvl-lsp.generateConfigurations", arguments=[{"uri": uri, "mode": "one", "folder": "one"}]))

@@ -22,10 +22,10 @@ async def client(lsp_client: LanguageClient, request, tmp_path_factory):
     lsp_client.ws = ws
     install_client_handlers(lsp_client)
     await start(lsp_client, request.param, ws)
-    lsp_client.lizi_tvl = ws / "src/lizi/launch/generic.tvl"
-    lsp_client.lizi_launch = ws / "src/lizi/launch/generic.launch"
-    lsp_client.tvl_uri = open_doc(lsp_client, lsp_client.lizi_tvl)
-    lsp_client.launch_uri = open_doc(lsp_client, lsp_client.lizi_launch)
+    lsp_client.scout_tvl = ws / "src/scout/launch/generic.tvl"
+    lsp_client.scout_launch = ws / "src/scout/launch/generic.launch"
+    lsp_client.tvl_uri = open_doc(lsp_client, lsp_client.scout_tvl)
+    lsp_client.launch_uri = open_doc(lsp_client, lsp_client.scout_launch)
     yield
     await lsp_client.shutdown_session()
 
@@ -45,55 +45,55 @@ async def hover_text(client, uri, pos, want=None):
 
 
 async def test_definition_from_launch_arg_use_goes_to_the_feature(client: LanguageClient):
-    text = client.lizi_launch.read_text()
-    pos = position_of(text, "$(arg Gazebo)", offset=7)
+    text = client.scout_launch.read_text()
+    pos = position_of(text, "$(arg Simulation)", offset=7)
     locs = await client.text_document_definition_async(types.DefinitionParams(
         text_document=tdi(client.launch_uri), position=pos))
     assert locs and locs[0].uri == client.tvl_uri
-    model = client.lizi_tvl.read_text()
-    assert locs[0].range.start == position_of(model, "Gazebo")
+    model = client.scout_tvl.read_text()
+    assert locs[0].range.start == position_of(model, "Simulation")
 
 
 async def test_declaration_of_a_launch_arg_is_its_arg_tag(client: LanguageClient):
-    text = client.lizi_launch.read_text()
-    pos = position_of(text, "$(arg Gazebo)", offset=7)
+    text = client.scout_launch.read_text()
+    pos = position_of(text, "$(arg Simulation)", offset=7)
     locs = await client.text_document_declaration_async(types.DeclarationParams(
         text_document=tdi(client.launch_uri), position=pos))
     assert locs and locs[0].uri == client.launch_uri
-    assert locs[0].range.start == position_of(text, '<arg name="Gazebo"', offset=11)
+    assert locs[0].range.start == position_of(text, '<arg name="Simulation"', offset=11)
 
 
 async def test_references_span_model_and_launch_file(client: LanguageClient):
-    model = client.lizi_tvl.read_text()
-    pos = position_of(model, "Lidar", offset=1)
+    model = client.scout_tvl.read_text()
+    pos = position_of(model, "Laser", offset=1)
     refs = await client.text_document_references_async(types.ReferenceParams(
         text_document=tdi(client.tvl_uri), position=pos,
         context=types.ReferenceContext(include_declaration=True)))
     uris = [r.uri for r in refs]
-    launch_text = client.lizi_launch.read_text()
-    assert uris.count(client.tvl_uri) == model.count("Lidar")
-    assert uris.count(client.launch_uri) == launch_text.count("Lidar")
+    launch_text = client.scout_launch.read_text()
+    assert uris.count(client.tvl_uri) == model.count("Laser") == 3
+    assert uris.count(client.launch_uri) == launch_text.count("Laser") == 2
 
 
 async def test_rename_feature_updates_model_and_launch_file(client: LanguageClient):
-    model = client.lizi_tvl.read_text()
-    pos = position_of(model, "Lidar", offset=2)
+    model = client.scout_tvl.read_text()
+    pos = position_of(model, "Laser", offset=2)
     prep = await client.text_document_prepare_rename_async(types.PrepareRenameParams(
         text_document=tdi(client.tvl_uri), position=pos))
     assert prep is not None
     edit = await client.text_document_rename_async(types.RenameParams(
-        text_document=tdi(client.tvl_uri), position=pos, new_name="Laser"))
+        text_document=tdi(client.tvl_uri), position=pos, new_name="Lidar"))
     new_model = apply_text_edits(model, edit.changes[client.tvl_uri])
-    launch = client.lizi_launch.read_text()
+    launch = client.scout_launch.read_text()
     new_launch = apply_text_edits(launch, edit.changes[client.launch_uri])
-    assert "Lidar" not in new_model and new_model.count("Laser") == model.count("Lidar")
-    assert "Lidar" not in new_launch and '<arg name="Laser"/>' in new_launch and "$(arg Laser)" in new_launch
+    assert "Laser" not in new_model and new_model.count("Lidar") == model.count("Laser")
+    assert "Laser" not in new_launch and '<arg name="Lidar"/>' in new_launch and "$(arg Lidar)" in new_launch
 
 
-@pytest.mark.parametrize("bad", ["laser", "Cam", "group", "Two words"])
+@pytest.mark.parametrize("bad", ["lidar", "Webcam", "group", "Two words"])
 async def test_rename_refuses_invalid_or_clashing_names(client: LanguageClient, bad):
-    model = client.lizi_tvl.read_text()
-    pos = position_of(model, "Lidar", offset=2)
+    model = client.scout_tvl.read_text()
+    pos = position_of(model, "Laser", offset=2)
     with pytest.raises(Exception):
         await client.text_document_rename_async(types.RenameParams(
             text_document=tdi(client.tvl_uri), position=pos, new_name=bad))
@@ -107,33 +107,34 @@ async def completion_labels(client, uri, pos):
 
 
 async def test_completion_in_tvl(client: LanguageClient):
-    model = client.lizi_tvl.read_text()
-    labels = await completion_labels(client, client.tvl_uri, position_of(model, "Gmapping ->"))
-    assert {"group", "oneOf", "opt", "Lidar", "Move_base"} <= labels
+    model = client.scout_tvl.read_text()
+    labels = await completion_labels(client, client.tvl_uri, position_of(model, "Slam ->"))
+    assert {"group", "oneOf", "opt", "Laser", "Planner"} <= labels
 
 
 async def test_completion_in_launch(client: LanguageClient, tmp_path):
-    path = client.ws / "src/lizi/launch/scratch.launch"
+    path = client.ws / "src/scout/launch/scratch.launch"
     text = '<launch>\n  <arg name="Mine"/>\n  <node pkg="a" type="b" name="c" if="$(arg \n  <include file="$(find \n  <\n  <node \n</launch>\n'
     uri = open_doc(client, path, text)
     assert "Mine" in await completion_labels(client, uri, position_of(text, "$(arg ", offset=6))
-    assert {"lizi", "turtlerand"} <= await completion_labels(client, uri, position_of(text, "$(find ", offset=7))
+    assert {"scout", "crawler_bringup", "turtlerand"} <= await completion_labels(client, uri, position_of(text, "$(find ", offset=7))
     assert {"node", "group", "include"} <= await completion_labels(client, uri, position_of(text, "  <\n", offset=3))
     assert {"pkg", "type", "name", "if"} <= await completion_labels(client, uri, position_of(text, "<node \n", offset=6))
 
 
 async def test_document_symbols(client: LanguageClient):
     syms = await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=tdi(client.tvl_uri)))
-    root = [s for s in syms if s.name == "Lizi"][0]
-    assert {"Hw", "Navigation", "Gazebo"} <= {c.name for c in root.children}
+    root = [s for s in syms if s.name == "Scout"][0]
+    assert {"Sensors", "Navigation", "Simulation"} <= {c.name for c in root.children}
     syms = await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=tdi(client.launch_uri)))
     assert syms[0].name.startswith("<launch>")
-    assert any(c.name == "<arg> Gazebo" for c in syms[0].children)
+    assert any(c.name == "<arg> Simulation" for c in syms[0].children)
 
 
 async def test_folding_ranges(client: LanguageClient):
+    root_line = position_of(client.scout_tvl.read_text(), "root Scout").line
     fr = await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=tdi(client.tvl_uri)))
-    assert any(r.start_line == 0 for r in fr)
+    assert any(r.start_line == root_line for r in fr)
     fr = await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=tdi(client.launch_uri)))
     assert any(r.start_line == 0 for r in fr) and len(fr) > 5
 
@@ -142,9 +143,18 @@ async def test_semantic_tokens(client: LanguageClient):
     res = await client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(text_document=tdi(client.tvl_uri)))
     data = res.data
     assert data and len(data) % 5 == 0
-    # first two tokens: `root` (keyword) then `Lizi` (class, declaration)
-    assert list(data[:5]) == [0, 0, 4, 0, 0]
-    assert list(data[5:10]) == [0, 5, 4, 1, 1]
+    # absolute (line, column, length, type, modifiers) of each token
+    toks, line, col = [], 0, 0
+    for i in range(0, len(data), 5):
+        dl, dc, n, t, m = data[i:i + 5]
+        line, col = line + dl, (col + dc if dl == 0 else dc)
+        toks.append((line, col, n, t, m))
+    root = position_of(client.scout_tvl.read_text(), "root Scout")
+    assert toks[0][:2] == (0, 0) and toks[0][3] == 6  # the header comment
+    k = [t[:2] for t in toks].index((root.line, 0))
+    # `root` (keyword) then `Scout` (class, declaration)
+    assert toks[k] == (root.line, 0, 4, 0, 0)
+    assert toks[k + 1] == (root.line, 5, 5, 1, 1)
 
 
 async def test_formatting_is_idempotent(client: LanguageClient):
@@ -165,11 +175,12 @@ async def test_formatting_is_idempotent(client: LanguageClient):
 
 
 async def test_hover_on_launch_arg_and_element(client: LanguageClient):
-    text = client.lizi_launch.read_text()
-    v = await hover_text(client, client.launch_uri, position_of(text, '<arg name="Gazebo"', offset=12), "of 2304")
-    assert "execute lizi inside gazebo sim" in v and "of 2304 products" in v
-    v = await hover_text(client, client.launch_uri, position_of(text, '<group if="$(arg Robot_state)">', offset=2), "of 2304")
-    assert "Robot_state" in v and "of 2304 products" in v
+    text = client.scout_launch.read_text()
+    v = await hover_text(client, client.launch_uri, position_of(text, '<arg name="Simulation"', offset=12), "of 1152")
+    assert "run the scout in the gazebo simulator" in v and "384 of 1152 products" in v
+    v = await hover_text(client, client.launch_uri, position_of(text, '<group if="$(arg State_publisher)">', offset=2),
+                         "of 1152")
+    assert "State_publisher" in v and "576 of 1152 products" in v
 
 
 async def test_hover_on_arg_says_where_it_is_set(client: LanguageClient):
@@ -182,18 +193,19 @@ async def test_hover_on_arg_says_where_it_is_set(client: LanguageClient):
 
 
 async def test_hover_on_feature_shows_its_facts(client: LanguageClient):
-    model = client.lizi_tvl.read_text()
-    v = await hover_text(client, client.tvl_uri, position_of(model, "Gmapping", offset=1), "of 2304")
-    assert "parent: `Navigation`" in v and "of 2304 products" in v
+    model = client.scout_tvl.read_text()
+    v = await hover_text(client, client.tvl_uri, position_of(model, "Slam", offset=1), "of 1152")
+    assert "parent: `Navigation`" in v and "of 1152 products" in v
 
 
 async def test_code_lens_on_root(client: LanguageClient):
     for _ in range(100):
         lenses = await client.text_document_code_lens_async(types.CodeLensParams(text_document=tdi(client.tvl_uri)))
-        if lenses and "2304" in lenses[0].command.title:
+        if lenses and "1152" in lenses[0].command.title:
             break
         await asyncio.sleep(0.1)
-    assert lenses[0].command.title.startswith("2304 products") and lenses[0].range.start.line == 0
+    root = position_of(client.scout_tvl.read_text(), "root Scout")
+    assert lenses[0].command.title.startswith("1152 products") and lenses[0].range.start.line == root.line
 
 
 async def test_settings_turn_a_code_off_and_change_severity(client: LanguageClient):

@@ -92,7 +92,7 @@ async def soak(client: LanguageClient, edits: int, seed: int):
     enc = client.init_result.capabilities.position_encoding or "utf-16"
     rng = random.Random(seed)
     docs = {}
-    for rel in ("src/lizi/launch/generic.tvl", "src/lizi/launch/generic.launch"):
+    for rel in ("src/scout/launch/generic.tvl", "src/scout/launch/generic.launch"):
         p = client.ws / rel
         text = p.read_text()
         docs[open_doc(client, p, text)] = [text, 1]
