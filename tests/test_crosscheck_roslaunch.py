@@ -1,15 +1,18 @@
 """Agreement with the real roslaunch (Debian's python3-roslaunch under /usr/bin/python3).
 
 1. Every ``duplicate-node``, ``undefined-arg``, ``duplicate-arg`` (and ``unset-arg``) witness
-   that ``tvl-lsp --check`` reports on the thesis workspace and on tests/data/pairs, passed to
-   roslaunch as ``name:=true|false``, makes roslaunch raise that error for that name.
-2. Over the products of the thesis's paired models (all of them for turtlerand; a fixed sample
-   of turtlebot's 776 and lizi's 2304 unless TVL_LSP_ALL_PRODUCTS=1), whenever roslaunch raises
+   that ``tvl-lsp --check`` reports on the test workspace (tests/testenv.py) and on
+   tests/data/pairs, passed to roslaunch as ``name:=true|false``, makes roslaunch raise that
+   error for that name.
+2. Over the products of the paired models (all of them for turtlerand; a fixed sample of the
+   crawler's 584 and the scout's 1152 unless TVL_LSP_ALL_PRODUCTS=1), whenever roslaunch raises
    one of these errors, tvl-lsp reported it: a fact of that code and name whose condition holds
    in that product, and the diagnostic is in the ``--check`` output.
 
-roslaunch stops at the first problem of any kind, and the thesis files name packages that are
-not in the workspace (``$(find xacro)``, ``lizi_control``...) and files that do not exist.  So
+Both also run on the thesis's workspace in the corpus suite (``--corpus DIR``).
+
+roslaunch stops at the first problem of any kind, and the files name packages that are not in
+the workspace (``$(find xacro)``, ``scout_control``...) and files that do not exist.  So
 roslaunch runs on a copy of the files in a sandbox where every ``$(find pkg)/path`` the files
 name exists (an empty package, a launch file declaring the args its include passes, an empty
 YAML), ``<param command=...>`` programs are not run, and the environment variables they read
@@ -28,6 +31,7 @@ from pathlib import Path
 
 import pytest
 
+from testenv import ROSLAUNCH_MISSING, SYS_PY, have_roslaunch, make_ws
 from tvl_lsp.analysis.engine import ModelAnalysis
 from tvl_lsp.base.formula import evaluate
 from tvl_lsp.project.check import check_paths, free_top_args
@@ -36,11 +40,9 @@ from tvl_lsp.tvl import parse_model
 
 HERE = Path(__file__).resolve().parent
 PAIRS = HERE / "data" / "pairs"
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-WS = SHARED / "corpus" / "thesis" / "ws"
-SYS_PY = "/usr/bin/python3"
 
-ENV = {"TURTLEBOT_SIMULATION": "false", "TURTLEBOT_SERIAL_PORT": "/dev/ttyUSB0", "ROBOT": "turtlebot"}
+ENV = {"CRAWLER_SIMULATION": "false", "CRAWLER_SERIAL_PORT": "/dev/ttyUSB0", "ROBOT": "robot",
+       "TURTLEBOT_SIMULATION": "false", "TURTLEBOT_SERIAL_PORT": "/dev/ttyUSB0"}
 
 DRIVER = r'''
 import io, json, os, sys
@@ -80,16 +82,17 @@ print(json.dumps(out))
 '''
 
 
-def _have_roslaunch() -> bool:
-    if not os.path.exists(SYS_PY):
-        return False
-    r = subprocess.run([SYS_PY, "-c", "import roslaunch.xmlloader, roslaunch.config, rospkg"],
-                       capture_output=True)
-    return r.returncode == 0
+pytestmark = pytest.mark.skipif(not have_roslaunch(), reason=ROSLAUNCH_MISSING)
+
+# the workspaces: ours, and the thesis's (corpus suite)
+WORKSPACES = ["repo", pytest.param("thesis", marks=pytest.mark.corpus)]
 
 
-pytestmark = [pytest.mark.skipif(not _have_roslaunch(), reason="/usr/bin/python3 cannot import roslaunch"),
-              pytest.mark.skipif(not WS.is_dir(), reason="shared corpus not available")]
+@pytest.fixture(scope="module")
+def ws(request, tmp_path_factory) -> Path:
+    if request.param == "repo":
+        return make_ws(tmp_path_factory.mktemp("repo") / "ws")
+    return request.getfixturevalue("corpus_dir") / "thesis" / "ws"
 
 FIND = re.compile(r"\$\(find ([^)\s]+)\)(/[^\s'\"<>]*)?")
 INCLUDE = re.compile(r"<include\b[^>]*?file=\"([^\"]+)\"[^>]*?(/>|>(.*?)</include>)", re.S)
@@ -115,10 +118,10 @@ KIND = {"duplicate-node": "duplicate-node", "duplicate-arg": "duplicate-arg",
 
 
 @pytest.fixture(scope="module")
-def sandbox(tmp_path_factory):
-    """A copy of the thesis workspace and of tests/data/pairs where every $(find) resolves."""
+def sandbox(ws, tmp_path_factory):
+    """A copy of the workspace and of tests/data/pairs where every $(find) resolves."""
     root = tmp_path_factory.mktemp("rosws")
-    shutil.copytree(WS / "src", root / "src")
+    shutil.copytree(ws / "src", root / "src")
     shutil.copytree(PAIRS, root / "pairs")
     stubs = root / "stubs"
     stubs.mkdir()
@@ -168,10 +171,10 @@ def _roslaunch(sandbox: Path, runs: list[dict]) -> list[dict]:
     return json.loads(r.stdout)
 
 
-def _in_sandbox(sandbox: Path, path: str) -> str:
+def _in_sandbox(sandbox: Path, ws: Path, path: str) -> str:
     p = Path(path)
     try:
-        return str(sandbox / "src" / p.relative_to(WS / "src"))
+        return str(sandbox / "src" / p.relative_to(ws / "src"))
     except ValueError:
         return str(sandbox / "pairs" / p.relative_to(PAIRS))
 
@@ -189,16 +192,17 @@ def _name_of(d) -> str:
 
 
 @pytest.fixture(scope="module")
-def reported():
-    diags = check_paths([str(WS), str(PAIRS / "robot"), str(PAIRS / "alone"), str(PAIRS / "clean"),
+def reported(ws):
+    diags = check_paths([str(ws), str(PAIRS / "robot"), str(PAIRS / "alone"), str(PAIRS / "clean"),
                          str(PAIRS / "nav")], jobs=1)
     return [d for d in diags if d.code in KIND and d.witness is not None]
 
 
-def test_every_witness_makes_roslaunch_raise_that_error(sandbox, reported):
+@pytest.mark.parametrize("ws", WORKSPACES, indirect=True)
+def test_every_witness_makes_roslaunch_raise_that_error(ws, sandbox, reported):
     assert {d.code for d in reported} >= {"duplicate-node", "undefined-arg", "duplicate-arg", "unset-arg"}
     relevant = [d for d in reported if d.code != "unset-arg" or "battery" in d.message]
-    runs = [{"file": _in_sandbox(sandbox, d.path), "args": _args(d.witness)} for d in relevant]
+    runs = [{"file": _in_sandbox(sandbox, ws, d.path), "args": _args(d.witness)} for d in relevant]
     results = _roslaunch(sandbox, runs)
     for d, res in zip(relevant, results):
         assert not res["ok"], (d.path, d.code, d.witness)
@@ -207,18 +211,28 @@ def test_every_witness_makes_roslaunch_raise_that_error(sandbox, reported):
         assert name == _name_of(d), (d.message, res["message"])
 
 
-PAIRED = [  # (launch file, model, sample size or None for every product)
-    (WS / "src/turtlerand/launch/generic.launch", WS / "src/turtlerand/launch/generic.tvl", None),
-    (WS / "src/turtlerand/launch/generic_alt.launch", WS / "src/turtlerand/launch/generic_alt.tvl", None),
-    (WS / "src/turtlebot_bringup/launch/generic.launch", WS / "src/turtlebot/launch/turtlebot.tvl", 40),
-    (WS / "src/lizi/launch/generic.launch", WS / "src/lizi/launch/generic.tvl", 40),
-    (PAIRS / "robot/robot.launch", PAIRS / "robot/robot.tvl", None),
-    (PAIRS / "nav/nav.launch", PAIRS / "nav/nav.tvl", None),
+def _paired(ws_name, lf, mf, sample):
+    return pytest.param(ws_name, lf, mf, sample, id=f"{ws_name}:{lf}",
+                        marks=[pytest.mark.corpus] if ws_name == "thesis" else [])
+
+
+PAIRED = [  # (workspace, launch file, model, sample size or None for every product); "pairs/": tests/data/pairs
+    _paired("repo", "src/turtlerand/launch/generic.launch", "src/turtlerand/launch/generic.tvl", None),
+    _paired("repo", "src/turtlerand/launch/generic_alt.launch", "src/turtlerand/launch/generic_alt.tvl", None),
+    _paired("repo", "src/crawler_bringup/launch/generic.launch", "src/crawler/models/crawler.tvl", 40),
+    _paired("repo", "src/scout/launch/generic.launch", "src/scout/launch/generic.tvl", 40),
+    _paired("repo", "pairs/robot/robot.launch", "pairs/robot/robot.tvl", None),
+    _paired("repo", "pairs/nav/nav.launch", "pairs/nav/nav.tvl", None),
+    _paired("thesis", "src/turtlerand/launch/generic.launch", "src/turtlerand/launch/generic.tvl", None),
+    _paired("thesis", "src/turtlerand/launch/generic_alt.launch", "src/turtlerand/launch/generic_alt.tvl", None),
+    _paired("thesis", "src/turtlebot_bringup/launch/generic.launch", "src/turtlebot/launch/turtlebot.tvl", 40),
+    _paired("thesis", "src/lizi/launch/generic.launch", "src/lizi/launch/generic.tvl", 40),
 ]
 
 
-@pytest.mark.parametrize("lf,mf,sample", PAIRED, ids=[p[0].parent.parent.name + "/" + p[0].name for p in PAIRED])
-def test_roslaunch_raises_nothing_tvl_lsp_did_not_report(sandbox, reported, lf, mf, sample):
+@pytest.mark.parametrize("ws,lf,mf,sample", PAIRED, indirect=["ws"])
+def test_roslaunch_raises_nothing_tvl_lsp_did_not_report(ws, sandbox, reported, lf, mf, sample):
+    lf, mf = ((PAIRS.parent / p if p.startswith("pairs/") else ws / p) for p in (lf, mf))
     launch = str(lf)
     res = parse_model(mf.read_text(), str(mf))
     ma = ModelAnalysis(res.model)
@@ -230,7 +244,7 @@ def test_roslaunch_raises_nothing_tvl_lsp_did_not_report(sandbox, reported, lf, 
     features = [enc.name_of(f) for f in enc.features]
     features += [n for n in free_top_args(text, str(lf)) if enc.feature_by_name(n) is None]
     la = analyse_launch(text, str(lf), features=features)
-    runs = [{"file": _in_sandbox(sandbox, str(lf)), "args": _args(p)} for p in products]
+    runs = [{"file": _in_sandbox(sandbox, ws, str(lf)), "args": _args(p)} for p in products]
     results = _roslaunch(sandbox, runs)
     here = [d for d in reported if d.path == str(lf)]
     raised = 0
@@ -245,5 +259,5 @@ def test_roslaunch_raises_nothing_tvl_lsp_did_not_report(sandbox, reported, lf, 
                  and (f"'{name}'" in f.message or f"[{name}]" in f.message)]
         assert facts, (launch, product, res["message"])
         assert any(KIND[d.code] == kind and _name_of(d) == name for d in here), (launch, res["message"])
-    if "lizi" in launch or "pairs" in launch:
-        assert raised > 0   # lizi: the products with Gazebo stop on depth_cam
+    if "lizi" in launch or "scout" in launch or "pairs" in launch:
+        assert raised > 0   # scout: the products with Simulation stop on stereo_cam (lizi: Gazebo, depth_cam)

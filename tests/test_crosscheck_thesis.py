@@ -1,4 +1,7 @@
-"""What is really wrong in the thesis's workspace (shared/corpus/thesis/ws), determined by hand.
+"""What is really wrong in the thesis's workspace (thesis/ws of the corpus), determined by hand.
+
+Corpus suite: runs with ``--corpus DIR`` (tests/conftest.py); tests/test_crosscheck_ws.py is its
+counterpart on the in-repository workspace.
 
 Pairings (haros_*.yaml, same stem): turtlerand generic.launch <-> generic.tvl,
 generic_alt.launch <-> generic_alt.tvl, turtlebot_bringup generic.launch <-> turtlebot.tvl,
@@ -22,18 +25,13 @@ lizi generic.launch <-> lizi generic.tvl; the other launch files have no model.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
 
 from tvl_lsp.project.check import check_paths
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-WS = SHARED / "corpus" / "thesis" / "ws"
-MODELS = SHARED / "corpus" / "thesis" / "models"
-
-pytestmark = pytest.mark.skipif(not WS.is_dir(), reason="shared corpus not available")
+pytestmark = pytest.mark.corpus
 
 CROSS = {"missing-arg", "unmatched-arg", "undefined-arg", "dead-element", "constant-condition",
          "duplicate-node", "duplicate-arg", "invalid-condition", "void-model", "dead-feature",
@@ -46,12 +44,25 @@ TR_ALT = "src/turtlerand/launch/generic_alt.launch"
 
 
 @pytest.fixture(scope="module")
-def diags():
-    return check_paths([str(WS)], jobs=1)
+def ws(corpus_dir) -> Path:
+    return corpus_dir / "thesis" / "ws"
 
 
-def _rel(d):
-    return str(Path(d.path).relative_to(WS))
+def _check(ws, jobs):
+    with pytest.MonkeyPatch.context() as mp:  # as on a machine where the robot is not set up
+        mp.delenv("TURTLEBOT_SIMULATION", raising=False)
+        mp.delenv("TURTLEBOT_SERIAL_PORT", raising=False)
+        return check_paths([str(ws)], jobs=jobs)
+
+
+@pytest.fixture(scope="module")
+def diags(ws):
+    return _check(ws, 1)
+
+
+@pytest.fixture(scope="module")
+def rel(ws):
+    return lambda d: str(Path(d.path).relative_to(ws))
 
 
 def _text(d):
@@ -59,8 +70,8 @@ def _text(d):
     return line[d.span.start.col:d.span.end.col] if d.span.start.line == d.span.end.line else None
 
 
-def test_exactly_the_real_cross_file_problems(diags):
-    got = sorted((_rel(d), d.span.start.line + 1, d.code) for d in diags if d.code in CROSS)
+def test_exactly_the_real_cross_file_problems(diags, rel):
+    got = sorted((rel(d), d.span.start.line + 1, d.code) for d in diags if d.code in CROSS)
     assert got == sorted([
         (LIZI, 74, "undefined-arg"),
         (TB, 24, "constant-condition"),
@@ -81,9 +92,9 @@ def test_lizi_undefined_depth_cam_with_witness(diags):
     assert "`$(arg cam)` in the same value is not declared either (did you mean `Cam`?)" in d.message
 
 
-def test_turtlebot_battery_is_never_set(diags):
+def test_turtlebot_battery_is_never_set(diags, rel):
     ds = [d for d in diags if d.code == "unset-arg" and "'battery'" in d.message]
-    assert ds and all(_rel(d) == TB and d.span.start.line + 1 == 135 for d in ds)
+    assert ds and all(rel(d) == TB and d.span.start.line + 1 == 135 for d in ds)
     w = ds[0].witness
     assert len(w) == 22 and w["Battery"] and w["Minimal"]
     # smallest: the root, Minimal with its mandatory children and one choice per oneOf group
@@ -91,36 +102,34 @@ def test_turtlebot_battery_is_never_set(diags):
                                                 "Battery", "Create", "Kinect", "Circles"}
 
 
-def test_constant_conditions_point_at_the_condition(diags):
-    cc = {(_rel(d), d.span.start.line + 1): _text(d) for d in diags if d.code == "constant-condition"}
+def test_constant_conditions_point_at_the_condition(diags, rel):
+    cc = {(rel(d), d.span.start.line + 1): _text(d) for d in diags if d.code == "constant-condition"}
     assert cc == {(TB, 24): "true", (TB, 32): "$(arg Stacks)", (TB, 33): "$(arg Sensor_3D)",
                   (TR, 7): "$(arg Turtlesim)", (TR_ALT, 9): "$(arg Turtlesim)"}
 
 
-def test_unpaired_thesis_launch_files_are_clean_of_cross_problems(diags):
+def test_unpaired_thesis_launch_files_are_clean_of_cross_problems(diags, rel):
     paired = {LIZI, TB, TR, TR_ALT}
-    others = [d for d in diags if d.code in CROSS and _rel(d) not in paired]
+    others = [d for d in diags if d.code in CROSS and rel(d) not in paired]
     assert others == []
 
 
-def test_thesis_model_of_figure_15_has_its_dead_feature():
-    diags = check_paths([str(MODELS)], jobs=1)
+def test_thesis_model_of_figure_15_has_its_dead_feature(corpus_dir):
+    diags = check_paths([str(corpus_dir / "thesis" / "models")], jobs=1)
     dead = [d for d in diags if d.code == "dead-feature"]
     assert [d.data.get("feature") for d in dead] == ["J"]
 
 
-def test_output_does_not_depend_on_parallelism(diags):
-    par = check_paths([str(WS)], jobs=2)
+def test_output_does_not_depend_on_parallelism(ws, diags):
+    par = _check(ws, 2)
     key = lambda d: (d.path, d.span, d.code, d.message, tuple(sorted((d.witness or {}).items())))
     assert [key(d) for d in par] == [key(d) for d in diags]
 
 
-def test_unset_environment_is_reported_once_not_as_unset_args(diags):
+def test_unset_environment_is_reported_once_not_as_unset_args(diags, rel):
     # simulation / serialport default to $(env TURTLEBOT_...): when the variable is unset,
     # roslaunch stops at the $(env); the args are not "declared without value or default"
-    if os.environ.get("TURTLEBOT_SIMULATION") is not None:
-        pytest.skip("TURTLEBOT_SIMULATION is set here")
-    env = [d for d in diags if d.code == "env-not-set" and _rel(d) == TB]
+    env = [d for d in diags if d.code == "env-not-set" and rel(d) == TB]
     assert sorted(d.span.start.line + 1 for d in env) == [25, 26]
     cascades = [d for d in diags if d.code in ("unset-arg", "include-arg-no-value")
                 and ("'simulation'" in d.message or "'serialport'" in d.message)]

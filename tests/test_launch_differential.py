@@ -1,7 +1,8 @@
 """Differential test against the real roslaunch (Debian's python3-roslaunch, /usr/bin/python3).
 
-For the thesis's generic launch files and our own fixtures, and every assignment of the
-feature args (a fixed sample when there are many), the nodes tvl-lsp says are loaded
+For the launch files of the test workspace (tests/testenv.py) and tests/data/launch (and, in
+the corpus suite, the thesis's), and every assignment of the feature args (a fixed sample when
+there are many), the nodes tvl-lsp says are loaded
 (both the concrete loader and the symbolic analysis evaluated at the assignment) equal
 what roslaunch loads, and where roslaunch raises a load error tvl-lsp predicts one.
 """
@@ -18,25 +19,16 @@ from pathlib import Path
 
 import pytest
 
+from conftest import corpus_option
+from testenv import EXAMPLE_WS, OVERLAY_WS, ROSLAUNCH_MISSING, SYS_PY, have_roslaunch, make_ws
 from tvl_lsp.base.formula import evaluate
 from tvl_lsp.launch import analyse_launch, find_packages, load_launch
 
 HERE = Path(__file__).resolve().parent
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-THESIS_WS = SHARED / "corpus" / "thesis" / "ws" / "src"
 OWN_WS = HERE / "data" / "launch" / "ws" / "src"
 ORACLE = HERE / "data" / "launch" / "roslaunch_oracle.py"
-SYS_PY = "/usr/bin/python3"
 
-
-def _have_roslaunch() -> bool:
-    if not os.path.exists(SYS_PY):
-        return False
-    r = subprocess.run([SYS_PY, "-c", "import roslaunch.xmlloader, roslaunch.config"], capture_output=True)
-    return r.returncode == 0
-
-
-pytestmark = pytest.mark.skipif(not _have_roslaunch(), reason="/usr/bin/python3 cannot import roslaunch")
+pytestmark = pytest.mark.skipif(not have_roslaunch(), reason=ROSLAUNCH_MISSING)
 
 ANON = re.compile(r"_anon\d+")
 
@@ -60,19 +52,51 @@ def _assignments(free, limit=24, seed=7):
     return out
 
 
-def _files(ws: Path):
-    return sorted(str(p) for p in ws.glob("*/launch/*.launch"))
+def _files(*src: Path) -> list[str]:
+    """The launch files under these ``src`` folders, relative to them."""
+    return sorted({str(p.relative_to(s)) for s in src for p in s.glob("*/launch/*.launch")})
 
 
-CASES = [(f, THESIS_WS, ()) for f in _files(THESIS_WS)]
-# the turtlebot file reads two environment variables; also run it with them set
-CASES += [(str(THESIS_WS / "turtlebot_bringup" / "launch" / "generic.launch"), THESIS_WS,
-           (("TURTLEBOT_SIMULATION", "false"), ("TURTLEBOT_SERIAL_PORT", "/dev/ttyUSB0")))]
-CASES += [(f, OWN_WS, ()) for f in _files(OWN_WS)]
+def pytest_generate_tests(metafunc):
+    """(workspace, launch file relative to its src folder, extra environment) cases: the test
+    workspace, tests/data/launch/ws and, with --corpus, the thesis's workspace."""
+    if "case" not in metafunc.fixturenames:
+        return
+    crawler_env = (("CRAWLER_SIMULATION", "false"), ("CRAWLER_SERIAL_PORT", "/dev/ttyUSB0"))
+    cases = [("repo", f, ()) for f in _files(EXAMPLE_WS / "src", OVERLAY_WS / "src")]
+    # the crawler's file reads two environment variables; also run it with them set
+    cases += [("repo", "crawler_bringup/launch/generic.launch", crawler_env)]
+    cases += [("own", f, ()) for f in _files(OWN_WS)]
+    corpus = corpus_option(metafunc.config)
+    if corpus is not None:
+        thesis = corpus / "thesis" / "ws" / "src"
+        cases += [("thesis", f, ()) for f in _files(thesis)]
+        cases += [("thesis", "turtlebot_bringup/launch/generic.launch",
+                   (("TURTLEBOT_SIMULATION", "false"), ("TURTLEBOT_SERIAL_PORT", "/dev/ttyUSB0")))]
+    metafunc.parametrize("case", [pytest.param(c, id=f"{c[0]}:{c[1]}{'+env' if c[2] else ''}",
+                                               marks=[pytest.mark.corpus] if c[0] == "thesis" else [])
+                                  for c in cases])
+
+
+@pytest.fixture(scope="module")
+def workspaces(tmp_path_factory, request):
+    """name -> src folder, made on first use."""
+    made: dict[str, Path] = {}
+
+    def get(name: str) -> Path:
+        if name not in made:
+            if name == "repo":
+                made[name] = make_ws(tmp_path_factory.mktemp("repo") / "ws") / "src"
+            elif name == "own":
+                made[name] = OWN_WS
+            else:
+                made[name] = request.getfixturevalue("corpus_dir") / "thesis" / "ws" / "src"
+        return made[name]
+    return get
 
 
 def _prepare(path, ws, extra_env):
-    env = {k: v for k, v in os.environ.items() if not k.startswith("TURTLEBOT_")}
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("TURTLEBOT_", "CRAWLER_"))}
     env.update(dict(extra_env))
     pk = find_packages(str(ws))
     analysis = analyse_launch(Path(path).read_text(), path, packages=pk, env=env)
@@ -83,21 +107,28 @@ def _prepare(path, ws, extra_env):
 
 
 @pytest.fixture(scope="module")
-def oracle_results():
-    """One roslaunch process for all files (its start-up dominates)."""
+def oracle_results(request, workspaces):
+    """One roslaunch process for all files of the session's cases (its start-up dominates)."""
+    cases = sorted({item.callspec.params["case"] for item in request.session.items
+                    if item.module is request.module and hasattr(item, "callspec") and "case" in item.callspec.params})
     all_jobs = []
-    for case in CASES:
-        all_jobs.extend(_prepare(*case)[4])
+    for name, rel, extra_env in cases:
+        ws = workspaces(name)
+        all_jobs.extend(_prepare(str(ws / rel), ws, extra_env)[4])
     results = iter(_oracle(all_jobs))
-    return {case: [next(results) for _ in _prepare(*case)[4]] for case in CASES}
+    out = {}
+    for name, rel, extra_env in cases:
+        ws = workspaces(name)
+        out[(name, rel, extra_env)] = [next(results) for _ in _prepare(str(ws / rel), ws, extra_env)[4]]
+    return out
 
 
-@pytest.mark.parametrize("path,ws,extra_env", CASES,
-                         ids=[f"{Path(c[0]).parent.parent.name}/{Path(c[0]).name}{'+env' if c[2] else ''}"
-                              for c in CASES])
-def test_same_nodes_and_errors_as_roslaunch(path, ws, extra_env, oracle_results):
+def test_same_nodes_and_errors_as_roslaunch(case, workspaces, oracle_results):
+    name, rel, extra_env = case
+    ws = workspaces(name)
+    path = str(ws / rel)
     env, pk, analysis, assigns, jobs = _prepare(path, ws, extra_env)
-    results = oracle_results[(path, ws, extra_env)]
+    results = oracle_results[case]
     checked_ok = checked_err = 0
     for a, job, o in zip(assigns, jobs, results):
         lr = load_launch(path, job["args"], packages=pk, env=env)
