@@ -3,23 +3,47 @@
 from __future__ import annotations
 
 import os
-import shutil
 from pathlib import Path
 
 import pytest
 
+from testenv import make_ws
 from tvl_lsp.main import main as cli_main
 from tvl_lsp.project.generate import (GenerateError, configuration_name, find_package, inside,
                               normalise_product, plan_configurations, render_configuration,
                               resolve_folder)
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-THESIS_WS = SHARED / "corpus" / "thesis" / "ws"
 FEATURES = ["Turtlerand", "Turtlesim", "Random", "Teleop"]
 
 
-def test_render_matches_the_thesis_listing_6_1():
-    want = (THESIS_WS / "src/turtlerand/configs/teleop.launch").read_text()
+@pytest.fixture
+def ws(tmp_path) -> Path:
+    return make_ws(tmp_path / "ws")
+
+
+def test_render_writes_the_args_then_includes_the_generic_file():
+    """The shape of the thesis's Listing 6.1: every feature arg set, in the order given, then
+    the generic launch file included with each arg passed on."""
+    got = render_configuration({"Turtlerand": True, "Turtlesim": True, "Random": True},
+                               ["Turtlerand", "Turtlesim", "Teleop", "Random"], "$(find turtlerand)/launch/generic.launch")
+    assert got == """<launch>
+  <arg name="Turtlerand" value="true"/>
+  <arg name="Turtlesim" value="true"/>
+  <arg name="Teleop" value="false"/>
+  <arg name="Random" value="true"/>
+  <include file="$(find turtlerand)/launch/generic.launch">
+    <arg name="Turtlerand" value="$(arg Turtlerand)"/>
+    <arg name="Turtlesim" value="$(arg Turtlesim)"/>
+    <arg name="Teleop" value="$(arg Teleop)"/>
+    <arg name="Random" value="$(arg Random)"/>
+  </include>
+</launch>
+"""
+
+
+@pytest.mark.corpus
+def test_render_matches_the_thesis_listing_6_1(corpus_dir):
+    want = (corpus_dir / "thesis/ws/src/turtlerand/configs/teleop.launch").read_text()
     got = render_configuration({"Turtlerand": True, "Turtlesim": True, "Random": False, "Teleop": True},
                                FEATURES, "$(find turtlerand)/launch/generic.launch")
     assert got == want
@@ -57,9 +81,7 @@ def test_inside_resolves_dot_dot_and_symlinks(tmp_path):
     assert not inside(str(ws / "link" / "x.launch"), [str(ws)])
 
 
-def test_folders_outside_the_workspace_are_refused(tmp_path):
-    ws = tmp_path / "ws"
-    shutil.copytree(THESIS_WS, ws)
+def test_folders_outside_the_workspace_are_refused(ws):
     generic = ws / "src/turtlerand/launch/generic.launch"
     assert resolve_folder(None, str(generic), [str(ws)]) == str(ws / "src/turtlerand/configs")
     assert resolve_folder("gen/x", str(generic), [str(ws)]) == str(ws / "src/turtlerand/gen/x")
@@ -71,18 +93,20 @@ def test_folders_outside_the_workspace_are_refused(tmp_path):
         plan_configurations([{"Turtlerand": True}], FEATURES, str(generic), "/tmp", [str(ws)])
 
 
-def test_package_discovery_reads_package_xml():
-    name, folder = find_package(str(THESIS_WS / "src/lizi/launch/generic.launch"))
-    assert name == "lizi" and folder == str(THESIS_WS / "src/lizi")
+def test_package_discovery_reads_package_xml(ws):
+    name, folder = find_package(str(ws / "src/scout/launch/generic.launch"))
+    assert name == "scout" and folder == str(ws / "src/scout")
+    # from a file deeper in the package
+    name, folder = find_package(str(ws / "src/crawler_bringup/launch/includes/tracks.launch.xml"))
+    assert name == "crawler_bringup" and folder == str(ws / "src/crawler_bringup")
 
 
-def test_cli_generates_the_four_turtlerand_configurations(tmp_path, capsys):
-    ws = tmp_path / "ws"
-    shutil.copytree(THESIS_WS, ws)
+def test_cli_generates_the_four_turtlerand_configurations(ws, capsys):
     generic = ws / "src/turtlerand/launch/generic.launch"
     assert cli_main(["generate", str(generic), "--mode", "all", "--out", "gen"]) == 0
     files = sorted((ws / "src/turtlerand/gen").glob("*.launch"))
-    assert [f.name for f in files] == ["generic_turtlesim-random.launch", "generic_turtlesim-teleop-random.launch",
+    assert [f.name for f in files] == ["generic_turtlesim-random-vel.launch",
+                                       "generic_turtlesim-teleop-random-vel-multiplexer.launch",
                                        "generic_turtlesim-teleop.launch", "generic_turtlesim.launch"]
     assert all("$(find turtlerand)/launch/generic.launch" in f.read_text() for f in files)
     # a partial configuration: only its completions

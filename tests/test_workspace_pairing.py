@@ -7,24 +7,26 @@ from pathlib import Path
 
 import pytest
 
+from testenv import make_ws
 from tvl_lsp.base.text import Pos, Span
 from tvl_lsp.project.workspace import (RULE_MARKER, RULE_NONE, RULE_PROJECT, RULE_STEM, discover_files, find_marker,
                                find_workspace_root, launch_stem, load_workspace, parse_project)
 
 HERE = Path(__file__).resolve().parent
 PAIRS = HERE / "data" / "pairs"
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-THESIS = SHARED / "corpus" / "thesis" / "ws"
-
-needs_thesis = pytest.mark.skipif(not THESIS.is_dir(), reason="shared corpus not available")
 
 
-@needs_thesis
-def test_thesis_pairings_follow_the_project_files_then_the_stem():
-    ws = load_workspace([str(THESIS)])
-    assert sorted(ws.packages) == ["lizi", "turtlebot", "turtlebot_bringup", "turtlerand"]
+@pytest.fixture(scope="module")
+def wsdir(tmp_path_factory) -> Path:
+    """The test workspace: examples/ws + tests/data/ws (tests/testenv.py)."""
+    return make_ws(tmp_path_factory.mktemp("pairing") / "ws")
+
+
+def test_pairings_follow_the_project_files_then_the_stem(wsdir):
+    ws = load_workspace([str(wsdir)])
+    assert sorted(ws.packages) == ["crawler", "crawler_bringup", "scout", "turtlerand"]
     assert ws.diagnostics == []
-    src = THESIS / "src"
+    src = wsdir / "src"
 
     def pair(rel):
         ps, ds = ws.pair(str(src / rel))
@@ -32,38 +34,38 @@ def test_thesis_pairings_follow_the_project_files_then_the_stem():
         return [(os.path.relpath(p.model, src) if p.model else None, p.rule) for p in ps]
 
     assert pair("turtlerand/launch/generic.launch") == [("turtlerand/launch/generic.tvl", RULE_PROJECT)]
-    assert pair("turtlebot_bringup/launch/generic.launch") == [("turtlebot/launch/turtlebot.tvl", RULE_PROJECT)]
-    assert pair("lizi/launch/generic.launch") == [("lizi/launch/generic.tvl", RULE_PROJECT)]
+    assert pair("crawler_bringup/launch/generic.launch") == [("crawler/models/crawler.tvl", RULE_PROJECT)]
+    assert pair("scout/launch/generic.launch") == [("scout/launch/generic.tvl", RULE_PROJECT)]
     assert pair("turtlerand/launch/generic_alt.launch") == [("turtlerand/launch/generic_alt.tvl", RULE_STEM)]
     # the legacy (plain HAROS) project names first.launch but pairs no model
     assert pair("turtlerand/launch/first.launch") == [(None, RULE_NONE)]
     assert pair("turtlerand/launch/generic_nested.launch") == [(None, RULE_NONE)]
+    # a configuration launch file sets the args of the generic one it includes: no model of its own
+    assert pair("turtlerand/configs/teleop.launch") == [(None, RULE_NONE)]
 
 
-@needs_thesis
-def test_project_pairing_records_where_it_is_written():
-    ws = load_workspace([str(THESIS)])
-    (p,), _ = ws.pair(str(THESIS / "src/turtlebot_bringup/launch/generic.launch"))
-    assert p.source_path == str(THESIS / "haros_turtlebot.yaml")
-    # {lf: turtlebot_bringup/launch/generic.launch, ...}: the lf value on line 4 (0-based 3)
-    line = (THESIS / "haros_turtlebot.yaml").read_text().splitlines()[3]
-    col = line.index("turtlebot_bringup/")
-    assert p.source_span == Span(Pos(3, col), Pos(3, col + len("turtlebot_bringup/launch/generic.launch")))
-    assert f"haros_turtlebot.yaml:4:{col + 1}" in p.describe(str(THESIS))
-    # lizi's project writes lf / tvl directly under configurations, on their own lines
-    (q,), _ = ws.pair(str(THESIS / "src/lizi/launch/generic.launch"))
+def test_project_pairing_records_where_it_is_written(wsdir):
+    ws = load_workspace([str(wsdir)])
+    (p,), _ = ws.pair(str(wsdir / "src/crawler_bringup/launch/generic.launch"))
+    assert p.source_path == str(wsdir / "haros_crawler.yaml")
+    # {lf: crawler_bringup/launch/generic.launch, ...}: the lf value on line 4 (0-based 3)
+    line = (wsdir / "haros_crawler.yaml").read_text().splitlines()[3]
+    col = line.index("crawler_bringup/")
+    assert p.source_span == Span(Pos(3, col), Pos(3, col + len("crawler_bringup/launch/generic.launch")))
+    assert f"haros_crawler.yaml:4:{col + 1}" in p.describe(str(wsdir))
+    # the scout's project writes lf / tvl directly under configurations, on their own lines
+    (q,), _ = ws.pair(str(wsdir / "src/scout/launch/generic.launch"))
     assert q.source_span.start == Pos(4, 8)
 
 
-@needs_thesis
-def test_discovery_and_workspace_root():
-    files = discover_files([str(THESIS)])
+def test_discovery_and_workspace_root(wsdir):
+    files = discover_files([str(wsdir)])
     names = {os.path.basename(p) for p in files.launches}
-    assert "generic_group_technique.launch" in names and "teleop.launch" in names
+    assert {"generic_nested.launch", "teleop.launch", "first.launch", "tracks.launch.xml"} <= names
     assert len(files.models) == 5 and len(files.manifests) == 4
-    assert {os.path.basename(y) for y in files.yamls} >= {"haros_lizi.yaml", "haros_turtlebot.yaml"}
+    assert {os.path.basename(y) for y in files.yamls} >= {"haros_scout.yaml", "haros_crawler.yaml", "haros.yaml"}
     # from a file deep in the tree, the root is the folder holding the project files
-    assert find_workspace_root(str(THESIS / "src/lizi/launch/generic.launch")) == str(THESIS)
+    assert find_workspace_root(str(wsdir / "src/scout/launch/generic.launch")) == str(wsdir)
 
 
 def test_discovery_skips_build_folders(tmp_path):
