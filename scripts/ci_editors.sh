@@ -90,12 +90,14 @@ step "grammar snapshots (vscode-tmgrammar-snap)"
 npx --no-install vscode-tmgrammar-snap -g node_modules/tm-grammars/grammars/xml.json \
   "test/snapshot/*.tvl" "test/snapshot/*.launch" || die "grammar snapshots differ (review, then npm run test:snapshot -- --updateSnapshot)"
 
+step "tokenize the repository's models and launch files (examples/, tests/data/)"
+node scripts/tokenize-corpus.js "$REPO/examples" "$REPO/tests/data" || die "the grammars failed on the repository's files"
 CORPUS="$REPO/../shared/corpus"
 if [[ -d "$CORPUS" ]]; then
   step "tokenize the corpus ($CORPUS)"
   node scripts/tokenize-corpus.js "$CORPUS" || die "the grammars failed on the corpus"
 else
-  echo "(no shared/corpus beside the repository: corpus tokenization skipped)"
+  echo "(no shared/corpus beside the repository: corpus tokenization not run)"
 fi
 
 step "done in $(( $(date +%s) - START )) s: editors/vscode/tvl-lsp.vsix built, grammar tests passed, $("$NVIM" --version | head -1) ready"

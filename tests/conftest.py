@@ -15,7 +15,14 @@ reference's own test files: ``shared/corpus`` on our machines) form the opt-in *
       .venv/bin/pytest -m corpus --corpus ../shared/corpus    # the corpus suite alone
 
 A test parametrized over the corpus's files at collection time reads the folder with
-:func:`corpus_option` (``None`` without ``--corpus``) in ``pytest_generate_tests``.
+:func:`corpus_option` (``None`` without ``--corpus``) in ``pytest_generate_tests``.  Corpus tests
+on the large DIMACS/UVL models take that folder from the ``models_dir`` fixture (``--models DIR``,
+default: ``models`` beside the corpus folder, as in ``shared/``).
+
+To keep it so, a test that is not marked ``corpus`` and opens or lists anything under
+``../shared`` (the folder beside the repository on our machines) fails at once with
+:class:`SharedFolderRead` (an audit hook; it sees this process only, not the programs a test
+runs: CI's fresh-clone run covers those).
 
 A test may skip only when an optional external program is absent (roslaunch, Neovim, Emacs,
 Node.js); its reason says how to install it (``tests/testenv.py`` has the probes and reasons).
@@ -23,9 +30,49 @@ Node.js); its reason says how to install it (``tests/testenv.py`` has the probes
 
 from __future__ import annotations
 
+import os
+import sys
 from pathlib import Path
 
 import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+_SHARED_PREFIXES = tuple(sorted({os.path.join(str(p), "") for p in
+                                 (REPO.parent / "shared", (REPO.parent / "shared").resolve())}))
+_guard_item: "pytest.Item | None" = None
+
+
+class SharedFolderRead(RuntimeError):
+    """A test outside the corpus suite read ../shared, which a fresh clone does not have."""
+
+
+def _audit(event: str, args: tuple) -> None:
+    if _guard_item is None or event not in ("open", "os.listdir", "os.scandir"):
+        return
+    path = args[0] if args else None
+    if isinstance(path, bytes):
+        path = os.fsdecode(path)
+    if not isinstance(path, str):
+        return
+    full = os.path.join(os.path.abspath(path), "")
+    if full.startswith(_SHARED_PREFIXES):
+        item = _guard_item
+        raise SharedFolderRead(f"{item.nodeid} reads {path}: ../shared is not there in a fresh clone; "
+                               "write a fixture in tests/data, or mark the test @pytest.mark.corpus "
+                               "and take the folder from the corpus_dir fixture")
+
+
+sys.addaudithook(_audit)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem):
+    global _guard_item
+    _guard_item = None if item.get_closest_marker("corpus") else item
+    try:
+        return (yield)
+    finally:
+        _guard_item = None
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -33,6 +80,9 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     group.addoption("--corpus", metavar="DIR", default=None,
                     help="also run the tests marked `corpus` over this folder (on our machines: "
                          "../shared/corpus); without it they are deselected")
+    group.addoption("--models", metavar="DIR", default=None,
+                    help="the large models some corpus tests use (default: `models` beside the "
+                         "--corpus folder; on our machines ../shared/models)")
 
 
 def pytest_configure(config: pytest.Config) -> None:
@@ -82,3 +132,13 @@ def corpus_dir(request: pytest.FixtureRequest) -> Path:
     if corpus is None:  # unreachable: unmarked users are refused at collection, marked ones deselected
         pytest.fail("corpus_dir needs --corpus DIR")
     return corpus
+
+
+@pytest.fixture(scope="session")
+def models_dir(request: pytest.FixtureRequest, corpus_dir: Path) -> Path:
+    """The folder of large models (``--models DIR``, default ``models`` beside the corpus)."""
+    given = request.config.getoption("models")
+    path = Path(given).expanduser().resolve() if given else corpus_dir.parent / "models"
+    if not path.is_dir():
+        pytest.skip(f"no models folder at {path}: give --models DIR (on our machines ../shared/models)")
+    return path

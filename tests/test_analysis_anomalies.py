@@ -1,12 +1,14 @@
 """Anomaly diagnostics on TVL text: codes, ranges, explanations."""
 
-from pathlib import Path
+import pytest
 
+from testenv import DATA, OVERLAY_WS
 from tvl_lsp.base import formula as fm
 from tvl_lsp.analysis.engine import ModelAnalysis
 from tvl_lsp.tvl import parse_model
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+COFFEE = DATA / "models" / "coffee.tvl"
+CRAWLER = OVERLAY_WS / "src" / "crawler" / "models" / "crawler.tvl"
 
 
 def analysis(text):
@@ -23,8 +25,29 @@ def line(text, d):
     return text.splitlines()[d.span.start.line]
 
 
-def test_listing_4_3_dead_J_explained():
-    p = SHARED / "corpus" / "thesis" / "models" / "example_4_3.tvl"
+def test_dead_decaf_explained():
+    p = COFFEE
+    text = p.read_text()
+    a = ModelAnalysis(parse_model(text, str(p)).model)
+    dead = by_code(a.anomalies(), "dead-feature")
+    assert [d.data["feature"] for d in dead] == ["Decaf"]
+    d = dead[0]
+    assert text.splitlines()[d.span.start.line][d.span.start.col:d.span.end.col] == "Decaf"
+    labels = [r.message for r in d.related]
+    # Decaf is excluded by Conical || Flat, and Grinder (always there) has one of them
+    assert any("Conical || Flat -> !Decaf" in m for m in labels)
+    assert any("oneOf" in m for m in labels) and any("Grinder is mandatory" in m for m in labels)
+    assert all(r.path == str(p) for r in d.related)
+    # each related location points at what it names
+    lines = text.splitlines()
+    for r in d.related:
+        if r.message.startswith("constraint"):
+            assert lines[r.span.start.line].strip() == "Conical || Flat -> !Decaf;"
+
+
+@pytest.mark.corpus
+def test_listing_4_3_dead_J_explained(corpus_dir):
+    p = corpus_dir / "thesis" / "models" / "example_4_3.tvl"
     text = p.read_text()
     a = ModelAnalysis(parse_model(text, str(p)).model)
     dead = by_code(a.anomalies(), "dead-feature")
@@ -78,15 +101,14 @@ def test_void_model_and_always_false_constraint():
 
 
 def test_explain_a_partial_configuration_and_formula():
-    p = SHARED / "corpus" / "thesis" / "ws" / "src" / "turtlebot" / "launch" / "turtlebot.tvl"
-    a = ModelAnalysis(parse_model(p.read_text(), str(p)).model)
-    ex = a.explain(include=["Logitech", "Ps3"])
+    a = ModelAnalysis(parse_model(CRAWLER.read_text(), str(CRAWLER)).model)
+    ex = a.explain(include=["Gamepad", "Joystick"])
     assert ex is not None and [e.kind for e in ex] == ["constraint"]
-    assert a.explain(include=["Logitech"]) is None
-    ex = a.explain(formula=fm.conj([fm.var("Kobuki"), fm.neg(fm.var("Base"))]))
+    assert a.explain(include=["Gamepad"]) is None
+    ex = a.explain(formula=fm.conj([fm.var("Tracks"), fm.neg(fm.var("Base"))]))
     assert ex is not None and {e.kind for e in ex} <= {"parent-link", "root", "mandatory"}
-    w = a.find_product(formula=fm.disj([fm.var("Bumper2pc"), fm.var("Xbox360")]))
-    assert w["Xbox360"] and sum(w.values()) == 3  # TurtleBot, Teleop, Xbox360
+    w = a.find_product(formula=fm.disj([fm.var("Bumpers"), fm.var("Phone")]))
+    assert w["Phone"] and sum(w.values()) == 3  # Crawler, Teleop, Phone
 
 
 def test_time_budget_zero_still_reports_anomalies_without_explanations():

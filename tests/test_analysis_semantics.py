@@ -1,14 +1,11 @@
 """TVL semantics of the encoder (issue 4): counts against the reference's, by hand."""
 
-from pathlib import Path
-
 import pytest
 
+from testenv import DATA, EXAMPLE_WS, OVERLAY_WS
 from tvl_lsp.analysis.engine import ModelAnalysis
 from tvl_lsp.tvl import parse_model
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-THESIS = SHARED / "corpus" / "thesis"
 
 
 def analysis(text: str) -> ModelAnalysis:
@@ -74,9 +71,20 @@ def test_shared_feature_implies_one_of_its_parents():
     assert a.count() == 6
 
 
-def test_bool_attributes_and_aggregates_of_listing_4_3():
-    a = ModelAnalysis(parse_model((THESIS / "models" / "example_4_3.tvl").read_text(),
-                                  str(THESIS / "models" / "example_4_3.tvl")).model)
+def test_bool_attributes_and_aggregates_of_the_coffee_machine():
+    p = DATA / "models" / "coffee.tvl"
+    a = ModelAnalysis(parse_model(p.read_text(), str(p)).model)
+    assert a.count() == 46
+    assert a.dead_features() == ["Decaf"]
+    # Heater.quick = or(selectedChildren.fast): only Thermoblock is fast, and quick excludes Jug
+    assert a.count(include=["Thermoblock", "Jug"]) == 0
+    assert a.count(include=["Jug"]) == 10
+
+
+@pytest.mark.corpus
+def test_bool_attributes_and_aggregates_of_listing_4_3(corpus_dir):
+    p = corpus_dir / "thesis" / "models" / "example_4_3.tvl"
+    a = ModelAnalysis(parse_model(p.read_text(), str(p)).model)
     assert a.count() == 20
     assert a.dead_features() == ["J"]
 
@@ -133,16 +141,37 @@ def test_real_constraint_left_out_and_reported_once():
     assert len(diags) == 1 and diags[0].span.start.line == 3  # 0-based: the `A -> w > 1.5` line
 
 
+REPO_MODELS = [  # the repository's models and their counts (tests/data/ws/README.md)
+    (EXAMPLE_WS / "src/turtlerand/launch/generic.tvl", 4),
+    (OVERLAY_WS / "src/turtlerand/launch/generic_split.tvl", 4),
+    # generic_alt.tvl writes `and` / `or` (errors), read as && / ||: Multiplexer only with Teleop
+    # and Random (5 of the 8 choices of the three), Logger only with one of them (4 of those 5)
+    (OVERLAY_WS / "src/turtlerand/launch/generic_alt.tvl", 9),
+    (OVERLAY_WS / "src/crawler/models/crawler.tvl", 584),
+    (OVERLAY_WS / "src/scout/launch/generic.tvl", 1152),
+    (DATA / "models" / "coffee.tvl", 46),
+]
+
+
+@pytest.mark.parametrize("p,expected", REPO_MODELS, ids=[p.name if p.parent.name != "launch" else
+                                                         f"{p.parents[1].name}/{p.name}" for p, _ in REPO_MODELS])
+def test_repository_model_counts(p, expected):
+    a = ModelAnalysis(parse_model(p.read_text(), str(p)).model)
+    assert a.count() == expected
+    assert sum(1 for _ in a.enumerate(limit=None)) == expected
+
+
+@pytest.mark.corpus
 @pytest.mark.parametrize("rel,expected", [
-    ("corpus/thesis/ws/src/turtlerand/launch/generic.tvl", 4),
-    ("corpus/thesis/ws/src/turtlerand/launch/generic_split.tvl", 4),
-    ("corpus/thesis/ws/src/turtlerand/launch/generic_alt.tvl", 4),
-    ("corpus/thesis/ws/src/turtlebot/launch/turtlebot.tvl", 776),
-    ("corpus/thesis/ws/src/lizi/launch/generic.tvl", 2304),
-    ("corpus/thesis/models/example_4_3.tvl", 20),
+    ("thesis/ws/src/turtlerand/launch/generic.tvl", 4),
+    ("thesis/ws/src/turtlerand/launch/generic_split.tvl", 4),
+    ("thesis/ws/src/turtlerand/launch/generic_alt.tvl", 4),
+    ("thesis/ws/src/turtlebot/launch/turtlebot.tvl", 776),
+    ("thesis/ws/src/lizi/launch/generic.tvl", 2304),
+    ("thesis/models/example_4_3.tvl", 20),
 ])
-def test_thesis_counts(rel, expected):
-    p = SHARED / rel
+def test_thesis_counts(rel, expected, corpus_dir):
+    p = corpus_dir / rel
     a = ModelAnalysis(parse_model(p.read_text(), str(p)).model)
     assert a.count() == expected
     assert sum(1 for _ in a.enumerate(limit=None)) == expected

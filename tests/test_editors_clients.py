@@ -1,6 +1,7 @@
 """The editor clients agree with the server: settings, command names, file kinds, filetypes;
 the pre-commit hook's file pattern; and (when editors/vscode/node_modules is installed, as
-scripts/ci_editors.sh does) the TextMate grammar tests and the corpus tokenization."""
+scripts/ci_editors.sh does) the TextMate grammar tests and the tokenization of the repository's
+models and launch files (and, in the corpus suite, of the corpus's)."""
 
 from __future__ import annotations
 
@@ -22,7 +23,6 @@ from tvl_lsp.lsp.settings import Settings
 REPO = Path(__file__).resolve().parents[1]
 EXT = REPO / "editors" / "vscode"
 NVIM_DIR = REPO / "editors" / "nvim"
-CORPUS = REPO.parent / "shared" / "corpus"
 PACKAGE = json.loads((EXT / "package.json").read_text())
 CLIENT_ONLY = ("tvl-lsp.server.", "tvl-lsp.trace.")
 
@@ -125,11 +125,15 @@ def test_pre_commit_hook():
         assert not files.search(no), no
 
 
+NODE_MISSING = ("needs Node.js >= 20 and editors/vscode/node_modules: cd editors/vscode && npm ci "
+                "(scripts/ci_editors.sh does it)")
+
+
 def _node_ready() -> bool:
     return shutil.which("node") is not None and (EXT / "node_modules" / "vscode-textmate").is_dir()
 
 
-@pytest.mark.skipif(not _node_ready(), reason="editors/vscode/node_modules missing (run scripts/ci_editors.sh)")
+@pytest.mark.skipif(not _node_ready(), reason=NODE_MISSING)
 def test_textmate_grammar_tests():
     proc = subprocess.run(["npm", "run", "--silent", "test:grammar"], cwd=EXT, capture_output=True,
                           text=True, timeout=120)
@@ -138,7 +142,7 @@ def test_textmate_grammar_tests():
 
 
 @pytest.mark.skipif(not _node_ready() or not (EXT / "out" / "extension.js").is_file(),
-                    reason="needs node_modules and the built extension (run scripts/ci_editors.sh)")
+                    reason=NODE_MISSING + "; and the built extension (npm run package)")
 def test_vscode_client_finds_the_server_or_says_why():
     env = dict(os.environ, TVL_TEST_PYTHON=sys.executable)
     proc = subprocess.run(["node", "--test", "test/unit/"], cwd=EXT, capture_output=True, text=True,
@@ -148,11 +152,21 @@ def test_vscode_client_finds_the_server_or_says_why():
     assert not re.search(r"^# skipped [1-9]", proc.stdout, re.M), proc.stdout
 
 
-@pytest.mark.skipif(not _node_ready() or not CORPUS.is_dir(), reason="needs node_modules and shared/corpus")
-def test_every_corpus_file_tokenizes():
-    proc = subprocess.run(["node", "scripts/tokenize-corpus.js", str(CORPUS)], cwd=EXT,
+def _tokenize_all(*folders: Path):
+    proc = subprocess.run(["node", "scripts/tokenize-corpus.js", *map(str, folders)], cwd=EXT,
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     m = re.search(r"tokenized (\d+) \.tvl files and (\d+) launch files", proc.stdout)
-    n_tvl = len(list(CORPUS.rglob("*.tvl")))
+    n_tvl = sum(len(list(f.rglob("*.tvl"))) for f in folders)
     assert m and int(m.group(1)) == n_tvl and int(m.group(2)) > 0, proc.stdout
+
+
+@pytest.mark.skipif(not _node_ready(), reason=NODE_MISSING)
+def test_every_repository_model_and_launch_file_tokenizes():
+    _tokenize_all(REPO / "examples", REPO / "tests" / "data")
+
+
+@pytest.mark.corpus
+@pytest.mark.skipif(not _node_ready(), reason=NODE_MISSING)
+def test_every_corpus_file_tokenizes(corpus_dir):
+    _tokenize_all(corpus_dir)

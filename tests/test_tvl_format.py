@@ -4,13 +4,25 @@ from pathlib import Path
 
 import pytest
 
+from conftest import corpus_option
+from testenv import REPO
 from tvl_lsp.tvl import parse_model
 from tvl_lsp.tvl.format import format_tvl
 from tvl_lsp.tvl import model as m
 
-SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-CORPUS = SHARED / "corpus"
-FILES = sorted(CORPUS.rglob("*.tvl")) if CORPUS.is_dir() else []
+# every model of the repository (examples, test fixtures); with --corpus, the corpus's too
+OWN = sorted(p for d in (REPO / "examples", REPO / "tests" / "data") for p in d.rglob("*.tvl"))
+
+
+def pytest_generate_tests(metafunc):
+    if "path" not in metafunc.fixturenames:
+        return
+    params = [pytest.param(p, id=str(p.relative_to(REPO))) for p in OWN]
+    corpus = corpus_option(metafunc.config)
+    if corpus is not None:
+        params += [pytest.param(p, id="corpus:" + str(p.relative_to(corpus)), marks=pytest.mark.corpus)
+                   for p in sorted(corpus.rglob("*.tvl"))]
+    metafunc.parametrize("path", params)
 
 
 def _expr_sig(e):
@@ -49,7 +61,6 @@ def signature(res):
             tuple(sorted((d.code, d.message) for d in res.diagnostics)))
 
 
-@pytest.mark.parametrize("path", FILES, ids=lambda p: str(p.relative_to(CORPUS)))
 def test_format_is_idempotent_and_meaning_preserving(path):
     text = path.read_text(encoding="utf-8", errors="replace")
     out = format_tvl(text)

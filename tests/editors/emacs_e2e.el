@@ -1,12 +1,12 @@
-;;; emacs_e2e.el --- headless Emacs + eglot against tvl-lsp on the thesis workspace  -*- lexical-binding: t; -*-
+;;; emacs_e2e.el --- headless Emacs + eglot against tvl-lsp on the test workspace (scout)  -*- lexical-binding: t; -*-
 ;; emacs --batch -l tests/editors/emacs_e2e.el ; env: TVL_LSP_REPO, TVL_LSP_CMD, TVL_E2E_WS, TVL_E2E_OUT
 ;; Emacs idle timers never fire in --batch, so the harness sends eglot's pending didChange itself.
 ;; Writes a JSON result {checks: [{name, ok, detail}], ok} to TVL_E2E_OUT.
 
 ;;; EXPECTATIONS (tune here)
-(defconst e2e-launch "src/lizi/launch/generic.launch")
-(defconst e2e-expected-diagnostics '(("undefined-arg" 74 "depth_cam"))) ; (code line substring)
-(defconst e2e-hover '(7 "Gazebo" "1152 of 2304"))                       ; (line word substring)
+(defconst e2e-launch "src/scout/launch/generic.launch")
+(defconst e2e-expected-diagnostics '(("undefined-arg" 61 "stereo_cam"))) ; (code line substring)
+(defconst e2e-hover '(8 "Simulation" "384 of 1152"))                     ; (line word substring)
 (defconst e2e-remove-arg "Map")                                        ; delete its <arg>, apply the fix
 (defconst e2e-inserted-line "  <arg name=\"Map\"/>")
 (defconst e2e-timeout 60)

@@ -1,9 +1,9 @@
--- Headless Neovim end-to-end test of tvl-lsp on the thesis workspace (lizi).
+-- Headless Neovim end-to-end test of tvl-lsp on the test workspace (the scout robot of tests/data/ws).
 --
 -- Run by tests/test_editors_nvim.py as
 --   nvim --headless -n -i NONE -u tests/editors/init.lua -c "luafile tests/editors/nvim_e2e.lua"
--- with TVL_E2E_WS (a scratch copy of the thesis workspace) and TVL_E2E_OUT (a JSON result file).
--- Steps: open lizi's generic launch file; wait for the server's diagnostics and compare them
+-- with TVL_E2E_WS (a scratch copy of the test workspace, tests/testenv.py) and TVL_E2E_OUT (a JSON
+-- result file). Steps: open the scout's generic launch file; wait for the server's diagnostics and compare them
 -- with EXPECTED_DIAGNOSTICS; hover a feature arg and look for the product count; delete one
 -- feature arg, wait for the missing-arg diagnostic, apply its quick fix, check the buffer and
 -- that the diagnostic is gone.
@@ -11,38 +11,38 @@
 ------------------------------------------------------------------------------------------------
 -- EXPECTATIONS (tune here)
 ------------------------------------------------------------------------------------------------
-local LAUNCH = 'src/lizi/launch/generic.launch' -- relative to the workspace
+local LAUNCH = 'src/scout/launch/generic.launch' -- relative to the workspace
 -- Every diagnostic the server must report on the untouched file, 1-based line; the server
 -- must report nothing else (after SETTLE_MS of quiet).
 local EXPECTED_DIAGNOSTICS = {
-  -- `$(arg depth_cam)` in the Gazebo branch: no such arg (the feature is Depth_cam)
-  { code = 'undefined-arg', line = 74, contains = 'depth_cam' },
+  -- `$(arg stereo_cam)` in the Simulation branch: no such arg (the feature is Stereo_cam)
+  { code = 'undefined-arg', line = 61, contains = 'stereo_cam' },
 }
 -- Hover on a feature arg: where, and what the text must contain.
-local HOVER_LINE, HOVER_WORD = 7, 'Gazebo' -- <arg name="Gazebo" doc="..."/>
-local HOVER_MUST_CONTAIN = { '1152 of 2304' } -- Gazebo is in 1152 of the 2304 products
+local HOVER_LINE, HOVER_WORD = 8, 'Simulation' -- <arg name="Simulation" doc="..."/>
+local HOVER_MUST_CONTAIN = { '384 of 1152' } -- Simulation is in 384 of the 1152 products
 -- Hover on the root feature's arg: the total.
-local ROOT_HOVER_LINE, ROOT_HOVER_WORD = 2, 'Lizi'
-local ROOT_HOVER_MUST_CONTAIN = { '2304 products' }
+local ROOT_HOVER_LINE, ROOT_HOVER_WORD = 3, 'Scout'
+local ROOT_HOVER_MUST_CONTAIN = { '1152 products' }
 -- The model: opened after the launch file; its root hovered.
-local MODEL = 'src/lizi/launch/generic.tvl'
-local MODEL_HOVER_LINE, MODEL_HOVER_WORD = 1, 'Lizi' -- root Lizi {
-local MODEL_HOVER_MUST_CONTAIN = { '2304 products' }
+local MODEL = 'src/scout/launch/generic.tvl'
+local MODEL_HOVER_LINE, MODEL_HOVER_WORD = 4, 'Scout' -- root Scout {
+local MODEL_HOVER_MUST_CONTAIN = { '1152 products' }
 local MODEL_EXPECTED_DIAGNOSTICS = 0
 -- The quick fix: delete this feature's <arg> line, expect a missing-arg diagnostic naming it,
 -- apply the fix whose title names it, and expect this line right after the last top-level arg.
 local REMOVE_ARG = 'Map'
 local MISSING_CODE = 'missing-arg'
 local EXPECTED_INSERTED_LINE = '  <arg name="Map"/>'
-local EXPECTED_AFTER_LINE = '  <arg name="Robot_localization"/>'
+local EXPECTED_AFTER_LINE = '  <arg name="Planner"/>'
 -- The configurator and the generation, through editors/nvim/lua/tvl_lsp (the :Tvl* commands):
 -- include this feature and expect this many remaining products, then reset;
-local CONFIG_FEATURE, CONFIG_REMAINING, CONFIG_TOTAL = 'Gazebo', '1152', '2304'
+local CONFIG_FEATURE, CONFIG_REMAINING, CONFIG_TOTAL = 'Simulation', '384', '1152'
 -- generate one configuration launch file from the launch file and expect it on disk, in
 -- GENERATE_FOLDER (relative to the launch file's package folder), with these lines.
 local GENERATE_MODE, GENERATE_FILES = 'one', 1
-local GENERATE_FOLDER = 'src/lizi/configs'
-local GENERATE_MUST_CONTAIN = { '<include file="$(find lizi)/launch/generic.launch">', '<arg name="Lizi" value="true"/>' }
+local GENERATE_FOLDER = 'src/scout/configs'
+local GENERATE_MUST_CONTAIN = { '<include file="$(find scout)/launch/generic.launch">', '<arg name="Scout" value="true"/>' }
 -- Timing
 local START_TIMEOUT_MS = 30000
 local DIAG_TIMEOUT_MS = 60000

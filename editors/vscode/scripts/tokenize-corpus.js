@@ -5,7 +5,8 @@
 //    level of the grammar (a begin/end rule leaked past its closing brace);
 //  - a $(arg|find|env|optenv|anon ...) in a launch file's attribute value or text is not
 //    highlighted as a substitution (the injection grammar did not apply).
-// Usage: node scripts/tokenize-corpus.js DIR... (default: ../../../shared/corpus)
+// Usage: node scripts/tokenize-corpus.js DIR... (default: the repository's examples/ and tests/data/;
+// scripts/ci_editors.sh also passes ../shared/corpus where it exists)
 'use strict';
 const fs = require('fs');
 const path = require('path');
@@ -45,7 +46,7 @@ function bracesBalanced(text) {
 
 async function main() {
   const dirs = process.argv.slice(2);
-  if (dirs.length === 0) dirs.push(path.resolve(ext, '..', '..', '..', 'shared', 'corpus'));
+  if (dirs.length === 0) dirs.push(path.resolve(ext, '..', '..', 'examples'), path.resolve(ext, '..', '..', 'tests', 'data'));
   const wasm = fs.readFileSync(path.join(path.dirname(require.resolve('vscode-oniguruma')), 'onig.wasm')).buffer;
   await onig.loadWASM(wasm);
   const registry = new tm.Registry({

@@ -1,0 +1,92 @@
+"""The rules of the test suite itself (tests/conftest.py): corpus tests are opt-in and
+deselected (not skipped) without ``--corpus``; a test outside the corpus suite cannot read
+``../shared``; the default suite's skips are only for absent optional programs."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import REPO, SharedFolderRead
+
+CONFTEST = (REPO / "tests" / "conftest.py").read_text()
+
+SAMPLE = '''
+import pytest
+
+def test_plain():
+    pass
+
+@pytest.mark.corpus
+def test_on_the_corpus(corpus_dir):
+    assert (corpus_dir / "a.tvl").is_file()
+
+@pytest.mark.parametrize("x", [1, pytest.param(2, marks=pytest.mark.corpus)])
+def test_param(x):
+    pass
+'''
+
+
+def _run(folder: Path, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-q", "-rs", *args],
+                          cwd=folder, capture_output=True, text=True, timeout=120)
+
+
+@pytest.fixture
+def suite(tmp_path: Path) -> Path:
+    (tmp_path / "tests").mkdir()
+    (tmp_path / "tests" / "conftest.py").write_text(CONFTEST)
+    (tmp_path / "tests" / "test_sample.py").write_text(SAMPLE)
+    (tmp_path / "corpus").mkdir()
+    (tmp_path / "corpus" / "a.tvl").write_text("root R { }\n")
+    return tmp_path
+
+
+def test_corpus_tests_are_deselected_without_the_option(suite):
+    r = _run(suite, "tests")
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert re.search(r"\b2 passed, 2 deselected\b", r.stdout), r.stdout
+    assert "skipped" not in r.stdout
+
+
+def test_corpus_option_runs_them(suite):
+    r = _run(suite, "tests", "--corpus", "corpus")
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert re.search(r"\b4 passed\b", r.stdout) and "deselected" not in r.stdout, r.stdout
+    r = _run(suite, "tests", "-m", "corpus", "--corpus", "corpus")
+    assert re.search(r"\b2 passed, 2 deselected\b", r.stdout), r.stdout
+
+
+def test_a_missing_corpus_folder_is_a_usage_error(suite):
+    r = _run(suite, "tests", "--corpus", "nowhere")
+    assert r.returncode == 4 and "--corpus nowhere: no such folder" in r.stderr, r.stdout + r.stderr
+
+
+def test_corpus_dir_without_the_marker_is_refused(suite):
+    (suite / "tests" / "test_sample.py").write_text("def test_sneaky(corpus_dir):\n    pass\n")
+    r = _run(suite, "tests")
+    assert r.returncode == 4 and "without @pytest.mark.corpus" in r.stderr, r.stdout + r.stderr
+
+
+def test_reading_the_shared_folder_fails_the_test():
+    with pytest.raises(SharedFolderRead, match="write a fixture in tests/data"):
+        open(REPO.parent / "shared" / "corpus" / "README.md")
+    with pytest.raises(SharedFolderRead):
+        list((REPO.parent / "shared").glob("*"))
+
+
+def test_skip_reasons_say_how_to_install_the_program():
+    """Every skip in the default suite names an optional program and how to get it."""
+    reasons = []
+    for p in sorted((REPO / "tests").glob("test_*.py")):
+        text = p.read_text()
+        reasons += [(p.name, m) for m in re.findall(r"""skip(?:if)?\([^)]*?reason=([^\n]+)""", text)]
+        reasons += [(p.name, m) for m in re.findall(r"""pytest\.skip\(([^\n]+)""", text)]
+    assert reasons
+    how = re.compile(r"apt-get install|pip install|npm ci|ci_editors\.sh|MISSING|--models|python3-roslaunch")
+    bad = [(f, r) for f, r in reasons if not how.search(r)]
+    assert not bad, bad
