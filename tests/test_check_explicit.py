@@ -1,15 +1,28 @@
-"""Files named explicitly on the command line: rostest / `.xml` launch files are checked."""
+"""Files named explicitly on the command line: rostest / `.xml` launch files are checked; a
+file that is not checked is reported on stderr (what it was taken to be, why it was skipped),
+and ``--strict`` makes that an error."""
 
-import subprocess
-import sys
 from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from tvl_lsp.cli import main
 
 
-def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "tvl_lsp", *args], capture_output=True, text=True, cwd=cwd)
+@pytest.fixture
+def run(capsys, monkeypatch):
+    """``tvl-lsp ARGS`` in this process (the console entry point): returncode, stdout, stderr."""
+    def run(*args, cwd=None):
+        if cwd is not None:
+            monkeypatch.chdir(cwd)
+        code = main(list(args))
+        out, err = capsys.readouterr()
+        return SimpleNamespace(returncode=code, stdout=out, stderr=err)
+    return run
 
 
-def test_explicit_xml_launch_file_is_checked(tmp_path: Path):
+def test_explicit_xml_launch_file_is_checked(run, tmp_path: Path):
     f = tmp_path / "test-undefined.xml"
     f.write_text('<?xml version="1.0"?>\n<launch>\n  <node pkg="a" type="b" name="n" args="$(arg nope)"/>\n</launch>\n')
     r = run("--check", str(f))
@@ -18,15 +31,57 @@ def test_explicit_xml_launch_file_is_checked(tmp_path: Path):
     assert "1 file(s) checked" in r.stderr
 
 
-def test_explicit_xml_that_is_not_a_launch_file_is_skipped(tmp_path: Path):
+def _notices(stderr: str) -> list[str]:
+    return [l for l in stderr.splitlines() if l.startswith("tvl-lsp --check: ")]
+
+
+def test_explicit_xml_that_is_not_a_launch_file_is_reported(run, tmp_path: Path):
     f = tmp_path / "other.xml"
-    f.write_text("<robot><link name='x'/></robot>\n")
+    f.write_text("<?xml version='1.0'?>\n<!-- a robot -->\n<robot><link name='x'/></robot>\n")
     r = run("--check", str(f))
     assert r.returncode == 0
-    assert "0 file(s) checked" in r.stderr
+    assert _notices(r.stderr) == [f"tvl-lsp --check: warning: {f} not checked: taken to be XML other than "
+                                  "a launch file: its root is <robot>, not <launch>"]
+    assert "0 file(s) checked, 1 named file(s) not checked" in r.stderr
+    r = run("--check", "--strict", str(f))
+    assert r.returncode == 1
+    assert _notices(r.stderr)[0].startswith(f"tvl-lsp --check: error: {f} not checked: ")
 
 
-def test_xml_inside_a_folder_walk_is_not_taken_for_a_launch_file(tmp_path: Path):
+@pytest.mark.parametrize("name,content,taken_to_be", [
+    ("notes.txt", "hello\n", "taken to be a .txt file; --check reads only TVL models (.tvl), launch files"),
+    ("README", "hello\n", "taken to be a file without a suffix; --check reads only"),
+    ("params.yaml", "rate: 10\n", "taken to be a plain YAML file, not a HAROS project file: it has no "
+                                   "top-level `configurations:`"),
+    ("package.xml", "<package format='2'><name>p</name></package>\n",
+     "taken to be a catkin package manifest: it is read for package names, not checked"),
+    ("robot.dimacs", "p cnf 1 0\n", "taken to be a DIMACS CNF model: `tvl-lsp count` reads it, --check does not"),
+    ("bringup.launch.py", "from launch import LaunchDescription\n", "taken to be a ROS 2 Python launch file"),
+    ("blob.bin", b"\x00\x01\x02", "taken to be a binary file; --check reads only"),
+])
+def test_every_kind_of_unchecked_file_is_named(run, tmp_path: Path, name, content, taken_to_be):
+    f = tmp_path / name
+    f.write_bytes(content if isinstance(content, bytes) else content.encode())
+    r = run("--check", str(f))
+    assert r.returncode == 0, r.stderr
+    (line,) = _notices(r.stderr)
+    assert line.startswith(f"tvl-lsp --check: warning: {f} not checked: {taken_to_be}"), line
+    assert run("--check", "--strict", str(f)).returncode == 1
+
+
+def test_checked_and_unchecked_files_together(run, tmp_path: Path):
+    (tmp_path / "m.tvl").write_text("root R { group allOf { opt A } }\n")
+    (tmp_path / "notes.md").write_text("# notes\n")
+    (tmp_path / "haros.yaml").write_text("configurations:\n  {lf: p/launch/a.launch, tvl: p/m.tvl}\n")
+    r = run("--check", "m.tvl", "notes.md", "haros.yaml", cwd=tmp_path)
+    assert [l.split(" not checked")[0] for l in _notices(r.stderr)] == ["tvl-lsp --check: warning: notes.md"]
+    assert "2 file(s) checked, 1 named file(s) not checked" in r.stderr
+    # a folder walk does not report what it passes over
+    r = run("--check", str(tmp_path))
+    assert _notices(r.stderr) == [] and "named file(s) not checked" not in r.stderr
+
+
+def test_xml_inside_a_folder_walk_is_not_taken_for_a_launch_file(run, tmp_path: Path):
     (tmp_path / "urdf.xml").write_text("<launch><node name='x'/></launch>\n")
     r = run("--check", str(tmp_path))
     assert r.returncode == 0

@@ -155,6 +155,45 @@ def _classify(path: str, out: Files, explicit: bool = False) -> None:
         out.manifests.append(path)
 
 
+def explicit_skip_reason(path: str) -> Optional[str]:
+    """Why ``--check`` does not check a file named on the command line: what the file is taken
+    to be and why that is not checked (one line); None when it is checked (a model, a launch
+    file, an XML/rostest file with a ``<launch>`` root, a HAROS project file)."""
+    base = os.path.basename(path)
+    if is_model(path) or is_launch(path) or _looks_like_launch(path):
+        return None
+    accepted = ("--check reads only TVL models (.tvl), launch files (.launch, .launch.xml, or .xml/.test "
+                "with a <launch> root) and HAROS project files (YAML with a top-level `configurations:`)")
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(4096)
+    except OSError as exc:
+        return f"cannot be read ({exc.strerror or exc})"
+    if path.endswith(".launch.py"):
+        return "taken to be a ROS 2 Python launch file, which --check does not read (it would have to run it)"
+    if path.endswith((".launch.yaml", ".launch.yml")):
+        return "taken to be a ROS 2 YAML launch file, which --check does not read yet"
+    if is_yaml(path):
+        if _looks_like_project(path):
+            return None
+        return ("taken to be a plain YAML file, not a HAROS project file: it has no top-level "
+                "`configurations:`")
+    if base == "package.xml":
+        return "taken to be a catkin package manifest: it is read for package names, not checked"
+    if path.endswith((".xml", ".test")):
+        text = re.sub(r"<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>", "", head.decode("utf-8", "replace"), flags=re.S)
+        m = re.match(r"\s*<([\w:.-]+)", text)
+        root = f"<{m.group(1)}>" if m else "no element"
+        return f"taken to be XML other than a launch file: its root is {root}, not <launch>"
+    if path.endswith((".dimacs", ".cnf")):
+        return "taken to be a DIMACS CNF model: `tvl-lsp count` reads it, --check does not"
+    if b"\0" in head:
+        return "taken to be a binary file; " + accepted
+    suffix = os.path.splitext(base)[1]
+    kind = f"a {suffix} file" if suffix else "a file without a suffix"
+    return f"taken to be {kind}; {accepted}"
+
+
 def discover_files(paths: Iterable[str]) -> Files:
     """Walk ``paths`` (files or folders) and classify what is found; sorted, absolute."""
     out = Files()

@@ -44,7 +44,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="report only these codes (repeatable)")
     p.add_argument("--ignore", action="append", default=[], metavar="CODE[,CODE...]",
                    help="do not report these codes (repeatable)")
-    p.add_argument("--strict", action="store_true", help="warnings also make the exit status 1")
+    p.add_argument("--strict", action="store_true",
+                   help="warnings, and files named on the command line that are not checked, "
+                        "also make the exit status 1")
     p.add_argument("--output", "-o", metavar="FILE", help="write the report to FILE instead of stdout")
     p.add_argument("--jobs", "-j", type=int, default=None, metavar="N",
                    help="parallel processes (default: one per CPU; 1: no processes)")
@@ -96,6 +98,12 @@ def main(argv: Optional[list[str]] = None) -> int:
         print(f"tvl-lsp --check: error: {exc}", file=sys.stderr)
         return 2
 
+    from ..workspace import explicit_skip_reason
+    skipped = [(p, r) for p in paths if os.path.isfile(p) and (r := explicit_skip_reason(p)) is not None]
+    for p, reason in skipped:   # named explicitly: say why it is not checked rather than ignore it
+        print(f"tvl-lsp --check: {'error' if ns.strict else 'warning'}: {p} not checked: {reason}",
+              file=sys.stderr)
+
     try:
         diags = check.check_paths(paths, jobs=ns.jobs)
         if select:
@@ -122,9 +130,11 @@ def main(argv: Optional[list[str]] = None) -> int:
     if not ns.quiet:
         files = len({d.path for d in diags})
         found = discover_files(paths)
-        checked = len(found.models) + len(found.launches) + len(found.yamls)
+        not_checked = {os.path.abspath(p) for p, _ in skipped}
+        checked = sum(1 for f in found.models + found.launches + found.yamls if f not in not_checked)
         print(f"{n_err} error(s), {n_warn} warning(s), {n_other} note(s) in {files} file(s); "
-              f"{checked} file(s) checked", file=sys.stderr)
-    if n_err or (ns.strict and n_warn):
+              f"{checked} file(s) checked" + (f", {len(skipped)} named file(s) not checked" if skipped else ""),
+              file=sys.stderr)
+    if n_err or (ns.strict and (n_warn or skipped)):
         return 1
     return 0
