@@ -1,8 +1,10 @@
 """Analysis engine vs flamapy 2.6, side by side in one run (issue 4).
 
-    .venv/bin/python bench/bench_analysis.py [--flamapy-python PY] [--timeout 120] [--models a,b]
+    .venv/bin/python bench/bench_analysis.py [--models-dir DIR] [--flamapy-python PY] [--timeout 120] [--models a,b]
 
-Our side runs on the DIMACS twins in ``shared/models/dimacs`` (imported as flat TVL models:
+The models: ``DIR/dimacs/NAME.dimacs`` and ``DIR/uvl/NAME.uvl`` for each NAME of ``--models``;
+``--models-dir`` defaults to ../shared/models (the team's shared folder of large models; the
+DIMACS and UVL twins of the published benchmark models).  Our side runs on the DIMACS twins (imported as flat TVL models:
 count, dead, core, all anomalies with explanations) and on the UVL twins (imported here into a
 TVL model with their hierarchy, for false-optional features, which only mean something with a
 hierarchy).  pyganak alone on the raw CNF gives the reference count and time.  flamapy runs each
@@ -27,7 +29,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-SHARED = ROOT.parent / "shared" / "models"
+DEFAULT_MODELS_DIR = ROOT.parent / "shared" / "models"
+SHARED = DEFAULT_MODELS_DIR  # set from --models-dir in main()
 
 from tvl_lsp.analysis.count import CACHE, count_cnf  # noqa: E402
 from tvl_lsp.analysis.dimacs import dimacs_to_model, parse_dimacs  # noqa: E402
@@ -310,6 +313,8 @@ def fmt_t(x):
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
+    ap.add_argument("--models-dir", default=str(DEFAULT_MODELS_DIR), metavar="DIR",
+                    help="folder with dimacs/NAME.dimacs and uvl/NAME.uvl (default: %(default)s)")
     ap.add_argument("--flamapy-python", default=os.environ.get("FLAMAPY_PYTHON", "/tmp/flamapy-venv/bin/python"))
     ap.add_argument("--timeout", type=float, default=60.0, help="per flamapy operation (s)")
     ap.add_argument("--count-timeout", type=float, default=300.0)
@@ -317,6 +322,16 @@ def main(argv=None) -> int:
     ap.add_argument("--json", default=None, help="also write the raw results here")
     ap.add_argument("--from-json", default=None, help="only print the table of an earlier run")
     args = ap.parse_args(argv)
+    global SHARED
+    SHARED = Path(args.models_dir)
+    if not args.from_json:
+        missing = [str(SHARED / sub / f"{n}.{sub}") for n in args.models.split(",") for sub in ("dimacs", "uvl")
+                   if not (SHARED / sub / f"{n}.{sub}").is_file()]
+        if missing:
+            print(f"bench_analysis.py: {len(missing)} model file(s) missing, e.g. {missing[0]}: the models are in the "
+                  f"team's shared folder (../shared/models); pass --models-dir DIR with dimacs/ and uvl/ twins, "
+                  f"or --models NAME,... for those you have", file=sys.stderr)
+            return 2
     have_flamapy = Path(args.flamapy_python).exists()
     results = {}
     start = time.time()

@@ -1,6 +1,9 @@
-"""Benchmark ``tvl-lsp --check`` on a whole tree (default: the shared corpus).
+"""Benchmark ``tvl-lsp --check`` on a whole tree.
 
     .venv/bin/python bench/bench_check.py [PATH] [--runs N] [--jobs N ...]
+
+PATH defaults to ../shared/corpus (the team's shared corpus: 95 models, 330 launch files);
+any folder will do (``examples``, a ROS workspace).
 
 Runs the real command line (a fresh process each time, as CI does: imports, discovery,
 pairing, parsing, SAT, output) and prints wall-clock times per ``--jobs`` setting, with the
@@ -29,6 +32,10 @@ def main() -> int:
     ap.add_argument("--jobs", type=int, action="append", default=None,
                     help="--jobs values to compare (default: 1 and automatic)")
     ns = ap.parse_args()
+    if not os.path.exists(ns.path):
+        print(f"bench_check.py: {ns.path} not found (the default is the team's shared corpus, ../shared/corpus); "
+              "pass the tree to check: bench/bench_check.py PATH (e.g. examples)", file=sys.stderr)
+        return 2
     sys.path.insert(0, str(ROOT))
     from tvl_lsp.project.workspace import discover_files
     files = discover_files([ns.path])

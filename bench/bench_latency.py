@@ -1,16 +1,21 @@
 """Language server latency: didChange -> publishDiagnostics and hover response times.
 
-    .venv/bin/python bench/bench_latency.py [--edits 200] [--interval 0.05]
+    .venv/bin/python bench/bench_latency.py [--edits 200] [--interval 0.05] [--workspace thesis|repo|DIR]
 
-Starts ``tvl-lsp`` on stdio on a copy of the thesis workspace (plus a generated
-2,000-feature model), with a push-diagnostics client, and:
+Starts ``tvl-lsp`` on stdio on a copy of a workspace (plus a generated 2,000-feature model),
+with a push-diagnostics client, and:
 
 1. types into each file (one incremental insertion every ``--interval`` seconds, as a fast
    typist) and measures, for every version, the time from sending ``didChange`` to receiving
    the first ``publishDiagnostics`` for that version;
 2. hovers features while idle;
-3. hovers a thesis feature while the server counts the 2,000-feature model's products
-   per feature (a long count in the worker process).
+3. hovers a feature while the server counts the 2,000-feature model's products per feature
+   (a long count in the worker process).
+
+The workspace: ``thesis`` (default: the HAROS-TVL thesis's workspace, lizi, turtlebot and
+turtlerand, at ../shared/corpus/thesis/ws on the team's machines; the published figures), a
+folder holding a copy of it, or ``repo`` (the repository's own test workspace, examples/ws +
+tests/data/ws: scout, crawler and turtlerand; always there).
 
 Prints p50 / p95 / max in milliseconds.  Goals: typing in the thesis files p50 <= 30 ms,
 p95 <= 100 ms; hover <= 50 ms while a count runs.
@@ -34,13 +39,26 @@ THESIS_WS = REPO.parent / "shared" / "corpus" / "thesis" / "ws"
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from gen_model import generate_model  # noqa: E402
 
-FILES = [
-    ("lizi model", "src/lizi/launch/generic.tvl", "Gazebo"),
-    ("lizi launch", "src/lizi/launch/generic.launch", '"Gazebo'),
-    ("turtlebot model", "src/turtlebot/launch/turtlebot.tvl", None),
-    ("turtlebot launch", "src/turtlebot_bringup/launch/generic.launch", None),
-    ("turtlerand launch", "src/turtlerand/launch/generic.launch", None),
-]
+# per workspace: the files typed into, then the model / launch file hovered, the feature and
+# the arg hovered there, and the model's product count (seen in a counted hover)
+PROFILES = {
+    "thesis": dict(files=[
+        ("lizi model", "src/lizi/launch/generic.tvl"),
+        ("lizi launch", "src/lizi/launch/generic.launch"),
+        ("turtlebot model", "src/turtlebot/launch/turtlebot.tvl"),
+        ("turtlebot launch", "src/turtlebot_bringup/launch/generic.launch"),
+        ("turtlerand launch", "src/turtlerand/launch/generic.launch"),
+    ], model="src/lizi/launch/generic.tvl", launch="src/lizi/launch/generic.launch", robot="lizi",
+        feature="Gmapping", arg='"Gazebo', total="2304"),
+    "repo": dict(files=[
+        ("scout model", "src/scout/launch/generic.tvl"),
+        ("scout launch", "src/scout/launch/generic.launch"),
+        ("crawler model", "src/crawler/models/crawler.tvl"),
+        ("crawler launch", "src/crawler_bringup/launch/generic.launch"),
+        ("turtlerand launch", "src/turtlerand/launch/generic.launch"),
+    ], model="src/scout/launch/generic.tvl", launch="src/scout/launch/generic.launch", robot="scout",
+        feature="Slam ->", arg='"Simulation', total="1152"),
+}
 
 
 def pct(xs, p):
@@ -171,7 +189,12 @@ def pos_of(text: str, needle: str, offset: int = 1) -> types.Position:
 async def main_async(args) -> int:
     tmp = Path(tempfile.mkdtemp(prefix="tvl-bench-"))
     ws = tmp / "ws"
-    shutil.copytree(THESIS_WS, ws)
+    prof = PROFILES["repo" if args.workspace == "repo" else "thesis"]
+    if args.workspace == "repo":
+        shutil.copytree(REPO / "examples" / "ws", ws)
+        shutil.copytree(REPO / "tests" / "data" / "ws", ws, dirs_exist_ok=True)
+    else:
+        shutil.copytree(args.workspace, ws)
     big_dir = ws / "src" / "big"
     big_dir.mkdir(parents=True)
     (big_dir / "package.xml").write_text("<package><name>big</name></package>\n")
@@ -181,7 +204,7 @@ async def main_async(args) -> int:
     await b.start(ws)
     print(f"# tvl-lsp latency, {args.edits} edits per file, one every {args.interval * 1000:.0f} ms")
     all_thesis = []
-    for label, rel, _ in FILES:
+    for label, rel in prof["files"]:
         p = ws / rel
         text = p.read_text()
         uri = b.open(p, text)
@@ -191,29 +214,31 @@ async def main_async(args) -> int:
         lat = await b.typing(uri, text, args.edits, args.interval)
         all_thesis += lat
         print(f"didChange -> diagnostics  {label:18s} {fmt(lat)}")
-    print(f"didChange -> diagnostics  {'all thesis files':18s} {fmt(all_thesis)}")
+    print(f"didChange -> diagnostics  {'all ' + prof['robot'] + ' files':18s} {fmt(all_thesis)}")
     text = big.read_text()
     uri_big = b.open(big, text)
     await asyncio.sleep(3)
     lat = await b.typing(uri_big, text, max(20, args.edits // 4), max(args.interval, 0.2))
     print(f"didChange -> diagnostics  {'2,000-feature model':18s} {fmt(lat)}")
 
-    lizi = ws / "src/lizi/launch/generic.tvl"
+    lizi = ws / prof["model"]
     ltext = lizi.read_text()
     uri_lizi = lizi.as_uri()
-    pos = pos_of(ltext, "Gmapping")
+    pos = pos_of(ltext, prof["feature"])
+    robot = prof["robot"]
     idle = []
     for _ in range(args.hovers):
         t, v = await b.hover(uri_lizi, pos)
         idle.append(t)
-    print(f"hover (idle)              {'lizi feature':18s} {fmt(idle)}   [{'2304' in v and 'counted' or 'no count'}]")
-    lpath = ws / "src/lizi/launch/generic.launch"
+    print(f"hover (idle)              {robot + ' feature':18s} {fmt(idle)}   "
+          f"[{prof['total'] in v and 'counted' or 'no count'}]")
+    lpath = ws / prof["launch"]
     ltxt = lpath.read_text()
     idle = []
     for _ in range(args.hovers):
-        t, v = await b.hover(lpath.as_uri(), pos_of(ltxt, '"Gazebo', 2))
+        t, v = await b.hover(lpath.as_uri(), pos_of(ltxt, prof["arg"], 2))
         idle.append(t)
-    print(f"hover (idle)              {'lizi <arg>':18s} {fmt(idle)}")
+    print(f"hover (idle)              {robot + ' <arg>':18s} {fmt(idle)}")
 
     # a long count: per-feature counts of the 2,000-feature model, started by a hover on it
     big2 = big_dir / "big2.tvl"
@@ -232,7 +257,7 @@ async def main_async(args) -> int:
         await asyncio.sleep(0.02)
     t, v = await b.hover(uri_big2, pos_of(big2_text, "F10 ", 1))
     counted = "of " in v
-    print(f"hover during a count      {'lizi feature':18s} {fmt(during)}   "
+    print(f"hover during a count      {robot + ' feature':18s} {fmt(during)}   "
           f"[the 2,000-feature count {'finished' if counted else 'was still running'} after "
           f"{time.perf_counter() - t0:.1f} s]")
     log = Path(b.logfile).read_text() if Path(b.logfile).exists() else ""
@@ -251,7 +276,20 @@ def main() -> int:
     ap.add_argument("--interval", type=float, default=0.05)
     ap.add_argument("--hovers", type=int, default=50)
     ap.add_argument("--count-window", type=float, default=5.0, help="seconds of hovering during the count")
-    return asyncio.run(main_async(ap.parse_args()))
+    ap.add_argument("--workspace", default="thesis", metavar="thesis|repo|DIR",
+                    help=f"thesis: {THESIS_WS} (default); repo: the repository's test workspace; "
+                         "DIR: a copy of the thesis's workspace")
+    args = ap.parse_args()
+    if args.workspace not in ("thesis", "repo"):
+        args.workspace = str(Path(args.workspace).resolve())
+    elif args.workspace == "thesis":
+        args.workspace = str(THESIS_WS)
+    if args.workspace != "repo" and not (Path(args.workspace) / "src" / "lizi").is_dir():
+        print(f"bench_latency.py: no thesis workspace (src/lizi, src/turtlebot...) at {args.workspace}: it is in "
+              "the team's shared corpus (../shared/corpus/thesis/ws); pass --workspace DIR with a copy of it, "
+              "or --workspace repo for the repository's own workspace", file=sys.stderr)
+        return 2
+    return asyncio.run(main_async(args))
 
 
 if __name__ == "__main__":
