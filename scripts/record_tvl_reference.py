@@ -4,7 +4,7 @@
     TVL_REFERENCE_DIR=/path/to/TVLParser-20100804 python3 scripts/record_tvl_reference.py [--check]
 
 Runs TVLParser v20100804 (the library the HAROS-TVL thesis used; its jars are third-party and
-are never part of this repository: see README.md, "The TVL reference parser") on every
+are never part of this repository: see docs/testing.md, "The TVL reference parser") on every
 ``tests/data/tvl/reference/*.tvl`` and writes its verdict, message and error position into
 ``tests/data/tvl_reference_fixtures.json``, keeping what we wrote there by hand: the code and line
 of the error tvl-lsp must report on a rejected file (``code``, ``line``), and for a file where
