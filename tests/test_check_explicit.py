@@ -7,7 +7,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from tvl_lsp.cli import main
+from tvl_lsp.main import main
 
 
 @pytest.fixture

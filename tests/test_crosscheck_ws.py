@@ -35,7 +35,7 @@ from pathlib import Path
 import pytest
 
 from testenv import DATA, make_ws
-from tvl_lsp.check import check_paths
+from tvl_lsp.project.check import check_paths
 
 CROSS = {"missing-arg", "unmatched-arg", "undefined-arg", "dead-element", "constant-condition",
          "duplicate-node", "duplicate-arg", "invalid-condition", "void-model", "dead-feature",

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from testenv import DATA
-from tvl_lsp.diagnostics import Severity
+from tvl_lsp.base.diagnostics import Severity
 from tvl_lsp.tvl import parse_model
 
 FIXTURES = DATA / "tvl" / "reference"
