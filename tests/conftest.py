@@ -8,15 +8,20 @@ reference's own test files: ``shared/corpus`` on our machines) form the opt-in *
 * mark them ``@pytest.mark.corpus`` (a whole module: ``pytestmark = pytest.mark.corpus``);
 * take the folder from the ``corpus_dir`` fixture (a :class:`pathlib.Path`), never from a path
   of their own;
-* run them with ``--corpus DIR``; without it they are *deselected*, not skipped, so that a
+* run them with ``--corpus=DIR``; without it they are *deselected*, not skipped, so that a
   fresh clone reports no skips for material it cannot have::
 
-      .venv/bin/pytest --corpus ../shared/corpus              # the default suite + the corpus suite
-      .venv/bin/pytest -m corpus --corpus ../shared/corpus    # the corpus suite alone
+      .venv/bin/pytest --corpus=../shared/corpus              # the default suite + the corpus suite
+      .venv/bin/pytest -m corpus --corpus=../shared/corpus    # the corpus suite alone
+
+  Write ``--corpus=DIR`` with ``=``: pytest finds its configuration (pyproject.toml) from the
+  paths on its command line before it reads this file's options, so in ``--corpus DIR`` it takes
+  DIR for a test path, and from a folder outside the repository it finds no configuration and no
+  ``--corpus`` option (pytest_configure below says so when it can).
 
 A test parametrized over the corpus's files at collection time reads the folder with
 :func:`corpus_option` (``None`` without ``--corpus``) in ``pytest_generate_tests``.  Corpus tests
-on the large DIMACS/UVL models take that folder from the ``models_dir`` fixture (``--models DIR``,
+on the large DIMACS/UVL models take that folder from the ``models_dir`` fixture (``--models=DIR``,
 default: ``models`` beside the corpus folder, as in ``shared/``).
 
 To keep it so, a test that is not marked ``corpus`` and opens or lists anything under
@@ -90,6 +95,9 @@ def pytest_configure(config: pytest.Config) -> None:
         "markers", "corpus: runs over the third-party corpus given with --corpus DIR "
                    "(deselected without it); get the folder from the corpus_dir fixture")
     value = config.getoption("corpus")
+    if value is not None and config.rootpath != REPO:
+        raise pytest.UsageError(f"pytest took its configuration from {config.rootpath}, not {REPO}: write "
+                                f"--corpus={value} (with '='), else pytest takes the folder for a test path")
     if value is not None:
         path = Path(value).expanduser()
         if not path.is_dir():
@@ -140,5 +148,5 @@ def models_dir(request: pytest.FixtureRequest, corpus_dir: Path) -> Path:
     given = request.config.getoption("models")
     path = Path(given).expanduser().resolve() if given else corpus_dir.parent / "models"
     if not path.is_dir():
-        pytest.skip(f"no models folder at {path}: give --models DIR (on our machines ../shared/models)")
+        pytest.skip(f"no models folder at {path}: give --models=DIR (on our machines ../shared/models)")
     return path
