@@ -196,7 +196,7 @@ def _have_roslaunch() -> bool:
     return subprocess.run([SYS_PY, "-c", "import roslaunch.xmlloader, rospkg"], capture_output=True).returncode == 0
 
 
-needs_roslaunch = pytest.mark.skipif(not _have_roslaunch(), reason="/usr/bin/python3 cannot import roslaunch")
+needs_roslaunch = pytest.mark.skipif(not _have_roslaunch(), reason="no roslaunch (apt-get install python3-roslaunch)")
 
 
 def _roslaunch(runs):
