@@ -5,14 +5,13 @@ import json
 import random
 import threading
 import time
-from pathlib import Path
 
 import pyganak
 import pytest
 
 from testenv import DATA, OVERLAY_WS
 from tvl_lsp.analysis import count as C
-from tvl_lsp.analysis.dimacs import dimacs_to_model, parse_dimacs
+from tvl_lsp.analysis.dimacs import parse_dimacs
 from tvl_lsp.analysis.engine import ModelAnalysis
 from tvl_lsp.cli.commands import count as count_cmd
 from tvl_lsp.tvl import parse_model

@@ -1,6 +1,5 @@
 """The TVL formatter: idempotent, meaning-preserving, None on syntax errors."""
 
-from pathlib import Path
 
 import pytest
 
