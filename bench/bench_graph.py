@@ -42,6 +42,10 @@ def main() -> int:
     ap.add_argument("--launch", help="the launch file (default: the largest one a model configures)")
     ap.add_argument("--runs", type=int, default=5)
     ns = ap.parse_args()
+    if not os.path.isdir(ns.workspace):
+        print(f"bench_graph.py: no workspace at {ns.workspace} (the thesis's is in the team's shared corpus, "
+              "../shared/corpus/thesis/ws); pass --workspace DIR, e.g. examples/ws", file=sys.stderr)
+        return 2
     sys.path.insert(0, str(ROOT))
     from tvl_lsp.project.workspace import load_workspace
 

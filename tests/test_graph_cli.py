@@ -58,7 +58,7 @@ def test_exit_codes(capsys, tmp_path):
     assert code == 2
 
 
-@pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz is not installed")
+@pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz is not installed (apt-get install graphviz)")
 def test_dot_renders(capsys, tmp_path):
     out_file = tmp_path / "g.dot"
     code, out, _ = _run([str(ROBOT_LAUNCH), "--format", "dot", "-o", str(out_file)], capsys)

@@ -166,7 +166,7 @@ def test_dot_is_drawn_as_haros_draws(robot):
     assert '"node:/planner" -> "topic:/cmd_vel_safe" [style="dashed", label="Nav"' in dot
 
 
-@pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz is not installed")
+@pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz is not installed (apt-get install graphviz)")
 @pytest.mark.parametrize("decisions", [{}, {"Nav": True}, {"Nav": False, "Camera": True, "Compress": True}])
 def test_dot_renders_with_graphviz(robot, decisions):
     dot = to_dot(robot.project(decisions, count=True))
@@ -175,7 +175,7 @@ def test_dot_renders_with_graphviz(robot, decisions):
     assert r.stdout.lstrip().startswith("<?xml") and "<svg" in r.stdout and not r.stderr.strip()
 
 
-@pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz is not installed")
+@pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz is not installed (apt-get install graphviz)")
 def test_dot_escapes_awkward_names(tmp_path):
     from tvl_lsp.graph import GraphLogic, build_graph, project
     from tvl_lsp.launch import analyse_launch

@@ -71,7 +71,7 @@ def _rosgraph_available() -> bool:
         return False
 
 
-@pytest.mark.skipif(not _rosgraph_available(), reason="Debian's python3-rosgraph is not installed")
+@pytest.mark.skipif(not _rosgraph_available(), reason="Debian's python3-rosgraph is not installed (apt-get install python3-rosgraph)")
 def test_same_resolution_as_rosgraph():
     """rosgraph.names (rospy's table: both sides of each remap resolved against the node name)."""
     probe = r"""

@@ -49,7 +49,7 @@ def test_every_product_projection_equals_its_direct_graph(robot):
         assert set(proj.links) <= set(robot.graph.links)
 
 
-@pytest.mark.skipif(not roslaunch_available(), reason="Debian's python3-roslaunch is not installed")
+@pytest.mark.skipif(not roslaunch_available(), reason="Debian's python3-roslaunch is not installed (apt-get install python3-roslaunch)")
 def test_every_product_matches_real_roslaunch_and_rosgraph(robot):
     products = robot.products()
     jobs = [{"file": robot.launch, "args": {k: "true" if v else "false" for k, v in p.items()}}
