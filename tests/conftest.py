@@ -91,9 +91,7 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    config.addinivalue_line(
-        "markers", "corpus: runs over the third-party corpus given with --corpus DIR "
-                   "(deselected without it); get the folder from the corpus_dir fixture")
+    # the `corpus` marker is declared in pyproject.toml
     value = config.getoption("corpus")
     if value is not None and config.rootpath != REPO:
         raise pytest.UsageError(f"pytest took its configuration from {config.rootpath}, not {REPO}: write "
