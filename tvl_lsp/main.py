@@ -13,6 +13,9 @@ usage:
                                     configuration launch files for products of the model
   tvl-lsp graph LAUNCH [--include F]... [--exclude F]... [--format json|dot|mermaid]
                                     the computation graph of every product at once (docs/graph.md)
+  tvl-lsp ui [PATH] [--port N] [--no-browser]
+                                    the configurator (feature diagram, computation graph,
+                                    problems) in the browser, on 127.0.0.1
   tvl-lsp --version
 
 Exit status: 0 no error, 1 errors found, 2 usage or internal failure.
@@ -29,6 +32,7 @@ SUBCOMMANDS = {
     "generate": "tvl_lsp.cli.commands.generate",
     "check": "tvl_lsp.cli.commands.check",
     "graph": "tvl_lsp.cli.commands.graph",
+    "ui": "tvl_lsp.ui.command",
 }
 
 

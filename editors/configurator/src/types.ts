@@ -1,0 +1,140 @@
+// The JSON the configurator API answers (tvl_lsp/configurator/api.py).
+
+export interface Location {
+  path: string;
+  line: number; // 0-based
+  col: number;
+  endLine: number;
+  endCol: number;
+}
+
+export interface Group {
+  kind: string; // oneOf | someOf | allOf | card
+  lo: number;
+  hi: number | null;
+  text: string;
+}
+
+export interface FeatureNode {
+  id: string;
+  name: string;
+  longName: string;
+  optional: boolean;
+  ref?: boolean; // a `shared` reference to a feature declared elsewhere
+  location: Location | null;
+  group?: Group;
+  constraints?: string[];
+  children: FeatureNode[];
+}
+
+export interface GraphElement {
+  id: string;
+  kind: 'node' | 'topic' | 'param' | 'service' | string;
+  name: string;
+  label: string;
+  condition: string | null;
+  location: Location | null;
+  details: Record<string, unknown>;
+}
+
+export interface GraphEdge {
+  id: string;
+  source: string;
+  target: string;
+  kind: string;
+  condition: string | null;
+  location: Location | null;
+}
+
+export interface GraphJson {
+  elements: GraphElement[];
+  edges: GraphEdge[];
+  source: string;
+}
+
+export interface Related {
+  message: string;
+  location: Location | null;
+}
+
+export interface Problem {
+  id: string;
+  code: string;
+  severity: 'error' | 'warning' | 'information' | 'hint';
+  message: string;
+  location: Location | null;
+  related: Related[];
+  condition: string | null;
+  witness: Record<string, boolean> | null;
+}
+
+export type Status = 'certain' | 'possible' | 'absent' | 'excluded';
+
+export interface State {
+  decisions: Record<string, boolean>;
+  implied: Record<string, boolean>;
+  open: string[];
+  complete: boolean;
+  problems: Record<string, Status> | null; // null: the files are not checked yet
+  graph: Record<string, Status>;
+}
+
+export interface ProblemsJson {
+  problems: Problem[];
+  status: Record<string, Status> | null;
+}
+
+export interface ModelJson {
+  model: string;
+  name: string;
+  roots: string[];
+  launch: string | null;
+  launches: string[];
+  features: number;
+  tree: FeatureNode;
+  graph: GraphJson;
+  state: State;
+}
+
+export interface Refusal {
+  feature: string;
+  value: boolean;
+  conflictsWith: Record<string, boolean>;
+  because: { label: string; location: Location | null }[];
+  message: string;
+}
+
+export interface DecideResult {
+  ok: boolean;
+  state: State;
+  refused?: Refusal;
+}
+
+export interface Counts {
+  total: string | null;
+  remaining: string | null;
+  features: Record<string, string>;
+  complete: boolean;
+  decisions: Record<string, boolean>;
+}
+
+export interface Targets {
+  roots: string[];
+  models: { model: string; launches: string[] }[];
+  initial: string | null;
+}
+
+export interface GenerateResult {
+  files: { path: string; relative: string; text: string }[];
+  written?: string[];
+  folder: string;
+  mode: string;
+}
+
+export interface Excerpt {
+  path: string;
+  relative: string;
+  start: number;
+  line: number;
+  lines: string[];
+}

@@ -1,0 +1,424 @@
+"""One configurator session: a feature model, the launch files it configures, and the logic
+behind every click.  Pure (no LSP, no HTTP): the browser host (:mod:`tvl_lsp.ui`) and the
+language server's ``tvl-lsp.configurator`` command both call it through :mod:`.api`.
+
+Decisions are a plain ``{feature: included?}`` dict owned by the host; every method takes
+them and never keeps them, so one session serves any number of views.
+
+    s = Session.open("ws/src/robot/launch/generic.tvl")     # or the generic launch file
+    s.model_json()                        # the feature tree, the all-products graph, problems
+    new, refusal = s.decide({}, "Random", True)            # refusal: None, or why not
+    s.state(new)                          # user vs implied decisions, problems and graph status
+    s.counts(new)                         # remaining products and every feature's count
+    s.plan_generation(new, "current")     # the configuration launch file(s) to write
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Iterable, Mapping, Optional
+
+from ..base import formula as fm
+from ..base.diagnostics import Severity
+from ..project.workspace import default_read_file, find_workspace_root, is_launch, is_model, load_workspace, norm
+from . import counting, graph as graphmod, problems as problemsmod, sampling
+
+ReadFile = Callable[[str], Optional[str]]
+
+MODES = ("current", "completions", "sample", "all")
+
+
+class SessionError(ValueError):
+    """The path cannot be configured (no model, a model with errors, unknown feature...)."""
+
+
+@dataclass
+class Refusal:
+    """Why a decision was refused: the user's decisions it conflicts with (a minimal set) and
+    the parts of the model that forbid the combination (a minimal explanation)."""
+    feature: str
+    value: bool
+    conflicts_with: dict[str, bool] = field(default_factory=dict)
+    because: list[dict] = field(default_factory=list)   # {label, path, line, col}
+    message: str = ""
+
+    def to_json(self) -> dict:
+        return {"feature": self.feature, "value": self.value, "conflictsWith": self.conflicts_with,
+                "because": self.because, "message": self.message}
+
+
+def _verb(value: bool) -> str:
+    return "include" if value else "exclude"
+
+
+def _key(decisions: Mapping[str, bool]) -> tuple:
+    return tuple(sorted(decisions.items()))
+
+
+class Session:
+    def __init__(self, model_path: str, roots: Optional[Iterable[str]] = None,
+                 read_file: Optional[ReadFile] = None, launches: Optional[list[str]] = None):
+        from ..analysis.solve import PairLogic
+        from ..analysis.engine import ModelAnalysis
+        from ..tvl import parse_model
+        self.model_path = norm(model_path)
+        self.read_file = read_file or default_read_file
+        self.roots = [norm(r) for r in roots] if roots else [find_workspace_root(self.model_path)]
+        text = self.read_file(self.model_path)
+        if text is None:
+            raise SessionError(f"cannot read {self.model_path}")
+        res = parse_model(text, self.model_path, read_file=self.read_file)
+        errors = [d for d in res.diagnostics if d.severity == Severity.ERROR]
+        if res.model is None or res.model.root is None:
+            raise SessionError(f"{os.path.basename(self.model_path)} has no root feature")
+        if errors:
+            d = errors[0]
+            raise SessionError(f"{os.path.basename(d.path)}:{d.span.start}: {d.message} "
+                               f"(fix the model's errors to configure it)")
+        self.model = res.model
+        self.sources = dict(res.model.sources or {})
+        self.sources[self.model_path] = text
+        self.analysis = ModelAnalysis(res.model)
+        self.names = [self.analysis.name(f) for f in self.model.features]
+        self._by_name = {n: f for n, f in zip(self.names, self.model.features)}
+        self._alias = {}
+        for n, f in zip(self.names, self.model.features):
+            self._alias[n] = n
+            self._alias.setdefault(f.long_name, n)
+        self.workspace = load_workspace(self.roots, self.read_file)
+        if launches is None:
+            launches = sorted({p.launch for p in self.workspace.launches_for_model(self.model_path)})
+        self.launches = [norm(x) for x in launches]
+        self.launch = self.launches[0] if self.launches else None
+        self._lock = threading.RLock()
+        self._count_lock = threading.Lock()
+        self._problem_lock = threading.Lock()
+        self._launch_analysis = None
+        self._free: list[str] = []
+        if self.launch:
+            self._launch_analysis = self._analyse_launch(self.launch)
+        self.logic = PairLogic(self.analysis.encoding, self._free)
+        self.graph = (graphmod.build(self._launch_analysis, self.model_path, self.workspace)
+                      if self._launch_analysis is not None else graphmod.Graph())
+        self._problems: Optional[list] = None
+        self._states: OrderedDict = OrderedDict()
+        self._problem_states: OrderedDict = OrderedDict()
+        self._total: Optional[int] = None
+
+    # ------------------------------------------------------------------ opening
+    @classmethod
+    def open(cls, path: str, roots: Optional[Iterable[str]] = None,
+             read_file: Optional[ReadFile] = None) -> "Session":
+        """A session for a model, or for the model paired with a launch file."""
+        path = norm(path)
+        read_file = read_file or default_read_file
+        if is_model(path):
+            return cls(path, roots, read_file)
+        if is_launch(path):
+            roots = [norm(r) for r in roots] if roots else [find_workspace_root(path)]
+            ws = load_workspace(roots, read_file)
+            models = [p.model for p in ws.pair(path, read_file(path))[0] if p.model]
+            if not models:
+                raise SessionError(f"{os.path.basename(path)} is not paired with a feature model")
+            return cls(models[0], roots, read_file, launches=[path])
+        raise SessionError(f"{path} is neither a TVL model nor a launch file")
+
+    def _analyse_launch(self, path: str):
+        from ..project.check import free_top_args
+        from ..launch import analyse_launch
+        text = self.read_file(path)
+        if text is None:
+            return None
+        enc = self.analysis.encoding
+        features = [enc.name_of(f) for f in enc.features]
+        self._free = [n for n in free_top_args(text, path) if enc.feature_by_name(n) is None]
+        try:
+            return analyse_launch(text, path, workspace_root=self.roots[0], read_file=self.read_file,
+                                  features=features + self._free)
+        except Exception:
+            return None
+
+    # ------------------------------------------------------------------ names
+    def feature(self, name: str) -> str:
+        """The session's name of a feature (short when unique, else long); SessionError if unknown."""
+        n = self._alias.get(name)
+        if n is None:
+            raise SessionError(f"unknown feature {name!r}")
+        return n
+
+    def check_decisions(self, decisions: Mapping[str, bool]) -> dict[str, bool]:
+        out = {}
+        for k, v in decisions.items():
+            if not isinstance(v, bool):
+                raise SessionError(f"decision for {k!r} must be true or false")
+            out[self.feature(k)] = v
+        return out
+
+    # ------------------------------------------------------------------ the model
+    def _loc(self, path: str, span) -> Optional[dict]:
+        return graphmod._loc(path, span)
+
+    def tree(self) -> dict:
+        from ..analysis.encode import source_text
+        cache: dict = {}
+
+        def node(f, shared: bool = False, optional: bool = False) -> dict:
+            g = f.group
+            out = {"id": self.analysis.name(f), "name": f.name, "longName": f.long_name,
+                   "optional": optional, "location": self._loc(f.path, f.name_span)}
+            if shared:
+                out["ref"] = True
+                out["children"] = []
+                return out
+            if g is not None and g.children:
+                hi = g.hi
+                text = g.kind if g.kind != "card" else f"[{g.lo}..{'*' if hi is None else hi}]"
+                out["group"] = {"kind": g.kind, "lo": g.lo, "hi": hi, "text": text}
+            out["constraints"] = [source_text(self.model, c.path, c.span, 120, cache) for c in f.constraints]
+            out["children"] = [node(c.feature, c.shared, c.optional) for c in (g.children if g else [])]
+            return out
+
+        return node(self.model.root)
+
+    def model_json(self) -> dict:
+        return {
+            "model": self.model_path,
+            "name": self.model.root.name,
+            "roots": self.roots,
+            "launch": self.launch,
+            "launches": self.launches,
+            "features": len(self.names),
+            "tree": self.tree(),
+            "graph": self.graph.to_json(model_valid=lambda c: self.logic.valid(c)),
+        }
+
+    def problems_json(self, decisions: Mapping[str, bool]) -> dict:
+        """Every problem of the model and its launch files, and its status under ``decisions``
+        (checked on first use: it can take seconds on a big model, so it is a request of its own)."""
+        return {"problems": [self._problem_json(p) for p in self.problems()],
+                "status": self.problem_status(decisions)}
+
+    def problem_status(self, decisions: Mapping[str, bool]) -> Optional[dict[str, str]]:
+        """{problem id: possible | certain | excluded}; None while the problems are not checked."""
+        if self._problems is None:
+            return None
+        decisions = self.check_decisions(decisions)
+        key = _key(decisions)
+        with self._lock:
+            hit = self._problem_states.get(key)
+            if hit is None:
+                decided = graphmod.decisions_formula(decisions)
+                hit = {x.id: problemsmod.status(x, decisions, self.logic, decided) for x in self._problems}
+                self._problem_states[key] = hit
+                while len(self._problem_states) > 64:
+                    self._problem_states.popitem(last=False)
+            return hit
+
+    # ------------------------------------------------------------------ problems
+    def problems(self) -> list:
+        with self._problem_lock:
+            if self._problems is None:
+                from ..project.check import check_document
+                diags = []
+                for p in [self.model_path] + self.launches:
+                    try:
+                        diags += check_document(p, read_file=self.read_file, roots=self.roots,
+                                                workspace=self.workspace)
+                    except Exception as exc:  # an analysis bug must not break the configurator
+                        from ..project.check import _internal
+                        diags.append(_internal(p, f"check failed: {exc!r}"))
+                self._problems = [problemsmod.problem_of(i, d) for i, d in enumerate(diags)]
+            return self._problems
+
+    def _problem_json(self, p) -> dict:
+        d = p.diagnostic
+        return {"id": p.id, "code": d.code, "severity": d.severity.label, "message": d.message,
+                "location": self._loc(d.path, d.span),
+                "related": [{"message": r.message, "location": self._loc(r.path, r.span)} for r in d.related],
+                "condition": None if p.condition is None else str(p.condition), "witness": p.witness}
+
+    # ------------------------------------------------------------------ decisions
+    def decide(self, decisions: Mapping[str, bool], feature: str,
+               value: Optional[bool]) -> tuple[dict[str, bool], Optional[Refusal]]:
+        """The decisions after including (True) / excluding (False) / resetting (None)
+        ``feature``; the decisions unchanged and a :class:`Refusal` when no product
+        respects them."""
+        decisions = self.check_decisions(decisions)
+        name = self.feature(feature)
+        new = dict(decisions)
+        if value is None:
+            new.pop(name, None)
+            return new, None
+        new[name] = bool(value)
+        with self._lock:
+            p = self.analysis.propagate(new, count=False)
+        if p.ok:
+            return new, None
+        return decisions, self._refusal(name, bool(value), p.conflict or [name], new)
+
+    def _refusal(self, name: str, value: bool, core: list[str], new: Mapping[str, bool]) -> Refusal:
+        others = {k: new[k] for k in core if k != name}
+        inc = [k for k in core if new[k]]
+        exc = [k for k in core if not new[k]]
+        with self._lock:
+            elements = self.analysis.explain(include=inc, exclude=exc) or []
+        because = [dict(label=e.label, location=self._loc(e.path, e.span)) for e in elements]
+        what = f"{_verb(value).capitalize()} {name}"
+        if others:
+            mine = ", ".join(f"{_verb(v)} {k}" for k, v in others.items())
+            msg = f"{what}: refused, it conflicts with your decision{'s' if len(others) > 1 else ''} to {mine}."
+        else:
+            msg = f"{what}: refused, no product {_verb(value)}s it."
+        if because:
+            msg += " Because: " + "; ".join(b["label"] for b in because) + "."
+        return Refusal(name, value, others, because, msg)
+
+    def state(self, decisions: Mapping[str, bool]) -> dict:
+        """User decisions, implied ones, open features, and the status of every graph element
+        and (once checked) every problem under them (no counts: see :meth:`counts`)."""
+        decisions = self.check_decisions(decisions)
+        out = dict(self._core_state(decisions))
+        out["problems"] = self.problem_status(decisions)
+        return out
+
+    def _core_state(self, decisions: dict[str, bool]) -> dict:
+        key = _key(decisions)
+        with self._lock:
+            hit = self._states.get(key)
+            if hit is not None:
+                self._states.move_to_end(key)
+                return hit
+            p = self.analysis.propagate(decisions, count=False)
+            if not p.ok:
+                raise SessionError("the decisions conflict: " + ", ".join(p.conflict or []))
+            decided = graphmod.decisions_formula(decisions)
+            graph = graphmod.project(self.graph, decided, self.logic)
+            out = {"decisions": dict(decisions), "implied": dict(p.forced), "open": list(p.open),
+                   "complete": not p.open, "graph": graph}
+            self._states[key] = out
+            while len(self._states) > 64:
+                self._states.popitem(last=False)
+            return out
+
+    # ------------------------------------------------------------------ counts
+    def total(self, timeout: Optional[float] = None) -> Optional[int]:
+        if self._total is None:
+            self._total = counting.COUNTER.remaining(self.analysis, {}, timeout)
+        return self._total
+
+    def counts(self, decisions: Mapping[str, bool], features: Optional[Iterable[str]] = None,
+               timeout: Optional[float] = 10.0, cancel=None) -> dict:
+        """Remaining products and, for ``features`` (default: all, in model order), how many
+        of them select each feature; what is not counted within ``timeout`` is left out
+        (``complete: false``).  Counts are decimal strings (they exceed 2**53)."""
+        decisions = self.check_decisions(decisions)
+        st = self.state(decisions)
+        fixed = dict(decisions)
+        fixed.update(st["implied"])
+        import time
+        t_end = None if timeout is None else time.monotonic() + timeout
+        with self._count_lock:
+            total = self.total(timeout)
+            left = None if t_end is None else max(0.05, t_end - time.monotonic())
+            remaining = counting.COUNTER.remaining(self.analysis, decisions, left, cancel)
+            wanted = list(dict.fromkeys(self.feature(f) for f in features)) if features is not None else list(self.names)
+            per: dict[str, int] = {}
+            if remaining is not None:
+                left = None if t_end is None else max(0.05, t_end - time.monotonic())
+                per = counting.COUNTER.per_feature(self.analysis, decisions, fixed, remaining, wanted, left, cancel)
+        return {"decisions": dict(decisions),
+                "total": None if total is None else str(total),
+                "remaining": None if remaining is None else str(remaining),
+                "features": {k: str(v) for k, v in per.items()},
+                "complete": remaining is not None and len(per) == len(wanted),
+                "counter": counting.COUNTER.name}
+
+    # ------------------------------------------------------------------ generation
+    def products(self, decisions: Mapping[str, bool], mode: str, limit: int = 100) -> list[dict[str, bool]]:
+        decisions = self.check_decisions(decisions)
+        if mode not in MODES:
+            raise SessionError(f"mode must be one of {', '.join(MODES)}")
+        if mode == "current":
+            st = self.state(decisions)
+            if not st["complete"]:
+                raise SessionError(f"the product is not complete yet: {len(st['open'])} feature(s) are open "
+                                   f"({', '.join(st['open'][:5])}{', …' if len(st['open']) > 5 else ''})")
+            product = {n: False for n in self.names}
+            product.update(st["implied"])
+            product.update(decisions)
+            return [product]
+        if mode == "sample":
+            st = self.state(decisions)
+            with self._lock:
+                return sampling.SAMPLER(self.analysis, decisions, st["open"], limit)
+        inc = [k for k, v in decisions.items() if v] if mode == "completions" else []
+        exc = [k for k, v in decisions.items() if not v] if mode == "completions" else []
+        with self._lock:
+            return list(self.analysis.enumerate(limit=limit, include=inc, exclude=exc))
+
+    def plan_generation(self, decisions: Mapping[str, bool], mode: str, folder: Optional[str] = None,
+                        limit: int = 100):
+        """(files, out_dir): the configuration launch files for ``mode`` (current product,
+        every completion, a pairwise sample, or every product), planned inside the workspace
+        -- nothing is written here."""
+        from ..project.generate import GenerateError, plan_configurations, resolve_folder
+        if not self.launch or self._launch_analysis is None:
+            raise SessionError(f"{os.path.basename(self.model_path)} is paired with no launch file")
+        la = self._launch_analysis
+        feature_names = set(self.names) | {f.long_name for f in self.model.features} | {f.name for f in self.model.features}
+        features = [a.name for a in la.feature_args if a.name in feature_names and getattr(a, "value", None) is None]
+        products = self.products(decisions, mode, limit)
+        package = self.workspace.package_of(self.launch)
+        package_dir = self.workspace.packages.get(package) if package else None
+        try:
+            out_dir = resolve_folder(folder, self.launch, self.roots)
+            files = plan_configurations(products, features, self.launch, out_dir, self.roots, package, package_dir,
+                                        omit=[self.model.root.name])
+        except GenerateError as e:
+            raise SessionError(str(e))
+        return files, out_dir
+
+    # ------------------------------------------------------------------ sources
+    def known_files(self) -> set[str]:
+        out = set(self.sources) | set(self.launches)
+        if self._launch_analysis is not None:
+            out |= {e.path for e in self._launch_analysis.elements}
+        for p in self.problems():
+            out.add(p.diagnostic.path)
+            out |= {r.path for r in p.diagnostic.related}
+        return {norm(x) for x in out}
+
+    def excerpt(self, path: str, line: int, context: int = 4) -> dict:
+        """Lines around ``line`` (0-based) of a file of this session (inside the workspace)."""
+        from ..project.generate import inside
+        path = norm(path)
+        if path not in self.known_files() or not inside(path, self.roots):
+            raise SessionError("not a file of this configuration")
+        text = self.sources.get(path) if path in self.sources else self.read_file(path)
+        if text is None:
+            raise SessionError(f"cannot read {path}")
+        lines = text.splitlines()
+        lo, hi = max(0, line - context), min(len(lines), line + context + 1)
+        return {"path": path, "relative": self.relative(path), "start": lo, "line": line,
+                "lines": lines[lo:hi]}
+
+    def relative(self, path: str) -> str:
+        for r in self.roots:
+            try:
+                return Path(path).relative_to(r).as_posix()
+            except ValueError:
+                continue
+        return path
+
+
+def configurable_models(roots: Iterable[str], read_file: Optional[ReadFile] = None) -> list[dict]:
+    """Every model of the workspace with the launch files it configures (for a picker)."""
+    ws = load_workspace([norm(r) for r in roots], read_file)
+    out = []
+    for m in sorted(ws.files.models):
+        out.append({"model": m, "launches": sorted({p.launch for p in ws.launches_for_model(m)})})
+    return out

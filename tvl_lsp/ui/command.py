@@ -1,0 +1,68 @@
+"""``tvl-lsp ui [PATH] [--port N] [--no-browser] [--folder DIR]``: the configurator in the browser.
+
+Serves the feature diagram, the computation graph and the filtered problems of the workspace
+at PATH (a folder, a model or a generic launch file; default: the current folder) on
+127.0.0.1, prints the URL -- with this run's token -- on the first line of stdout, and opens
+the browser unless ``--no-browser``.  Ctrl-C or SIGTERM stops it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+
+
+class _Stop(Exception):
+    pass
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(prog="tvl-lsp ui",
+                                 description="The configurator (feature diagram, computation graph, problems) "
+                                             "in the browser, on 127.0.0.1.")
+    ap.add_argument("path", nargs="?", default=".", help="workspace folder, model or generic launch file")
+    ap.add_argument("--port", type=int, default=0, help="port on 127.0.0.1 (default: a free one)")
+    ap.add_argument("--no-browser", action="store_true", help="print the URL only")
+    ap.add_argument("--folder", help="where Generate writes configuration launch files (absolute, or "
+                                     "relative to the launch file's package; default: configs)")
+    ap.add_argument("--limit", type=int, default=100, help="at most this many files per Generate (default 100)")
+    ap.add_argument("--verbose", "-v", action="store_true", help="log every request on stderr")
+    try:
+        args = ap.parse_args(argv)
+    except SystemExit as ex:
+        return 2 if ex.code else 0
+    if not 0 <= args.port <= 65535:
+        print("tvl-lsp ui: --port must be between 0 and 65535", file=sys.stderr)
+        return 2
+
+    from ..configurator import SessionError
+    from .server import make_server
+    try:
+        httpd, url = make_server(args.path, args.port, args.folder, verbose=args.verbose, limit=max(1, args.limit))
+    except SessionError as ex:
+        print(f"tvl-lsp ui: {ex}", file=sys.stderr)
+        return 2
+    except OSError as ex:
+        print(f"tvl-lsp ui: cannot listen on 127.0.0.1:{args.port}: {ex.strerror or ex}", file=sys.stderr)
+        return 2
+    print(url, flush=True)
+
+    def stop(signum, frame):
+        raise _Stop()
+
+    signal.signal(signal.SIGTERM, stop)
+    if not args.no_browser:
+        import webbrowser
+        try:
+            webbrowser.open(url)
+        except Exception:
+            pass
+    try:
+        httpd.serve_forever(poll_interval=0.2)
+    except (KeyboardInterrupt, _Stop):
+        pass
+    finally:
+        httpd.server_close()
+    print("tvl-lsp ui: stopped", file=sys.stderr)
+    return 0

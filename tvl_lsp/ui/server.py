@@ -1,0 +1,276 @@
+"""``tvl-lsp ui``: the configurator in the browser, served on the loopback interface.
+
+Security model (a local server that can write files must not be drivable by other web pages):
+
+- binds 127.0.0.1 only;
+- every request carries the per-run token (``?token=`` on the page and its assets, the
+  ``X-TVL-Token`` header on the API); a wrong or missing token gets 403;
+- the ``Host`` header must be ``127.0.0.1:PORT`` or ``localhost:PORT`` (DNS rebinding: a foreign
+  name resolving to 127.0.0.1 gets 403), and an API call with an ``Origin`` must come from there;
+- the API answers only POST with a JSON body of at most 1 MB, never CORS;
+- generated files are written inside the workspace only (:func:`tvl_lsp.configurator.api.write_files`);
+- file excerpts are served only for the session's own files inside the workspace.
+
+Standard library only (``http.server.ThreadingHTTPServer``): the API is a handful of JSON
+routes on loopback, nothing a framework would add to.
+"""
+
+from __future__ import annotations
+
+import hmac
+import json
+import mimetypes
+import os
+import secrets
+import sys
+import threading
+from http import HTTPStatus
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from typing import Optional
+from urllib.parse import parse_qs, urlsplit
+
+from ..configurator import Session, SessionError, configurable_models
+from ..configurator import api
+from ..project.workspace import find_workspace_root, is_launch, is_model, norm
+
+STATIC = Path(__file__).with_name("static")
+MAX_BODY = 1 << 20
+TOKEN_PLACEHOLDER = "__TVL_TOKEN__"
+CSP = ("default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
+       "connect-src 'self'; font-src 'self'; base-uri 'none'; form-action 'none'; frame-ancestors 'none'")
+
+
+class App:
+    """The state behind the server: one :class:`Session` per model, the decisions per model."""
+
+    def __init__(self, path: str, folder: Optional[str] = None, limit: int = 100):
+        path = norm(path)
+        if not os.path.exists(path):
+            raise SessionError(f"{path} does not exist")
+        self.roots = [find_workspace_root(path)]
+        self.folder = folder
+        self.limit = limit
+        self.lock = threading.Lock()
+        self.sessions: dict[str, Session] = {}
+        self.decisions: dict[str, dict[str, bool]] = {}
+        self.versions: dict[str, int] = {}
+        self.initial: Optional[str] = None
+        if is_model(path):
+            self.initial = path
+        elif is_launch(path):
+            s = Session.open(path, self.roots)
+            self.sessions[s.model_path] = s
+            self.initial = s.model_path
+        self._targets: Optional[list[dict]] = None
+
+    def targets(self) -> dict:
+        if self._targets is None:
+            self._targets = configurable_models(self.roots)
+        initial = self.initial
+        if initial is None:
+            with_launch = [t["model"] for t in self._targets if t["launches"]]
+            initial = (with_launch or [t["model"] for t in self._targets] or [None])[0]
+        return {"roots": self.roots, "models": self._targets, "initial": initial}
+
+    def warm_up(self) -> None:
+        """Open the first session and check its files ahead of the first page load."""
+        def run():
+            try:
+                self.session(None).problems()
+            except Exception:
+                pass  # the page will say what is wrong
+        threading.Thread(target=run, name="tvl-ui-warm-up", daemon=True).start()
+
+    def session(self, model: Optional[str]) -> Session:
+        if not isinstance(model, str) or not model:
+            model = self.targets()["initial"]
+            if model is None:
+                raise SessionError("no TVL model in this workspace")
+        model = norm(model)
+        from ..project.generate import inside
+        if not inside(model, self.roots):
+            raise SessionError("the model is outside the workspace")
+        with self.lock:
+            s = self.sessions.get(model)
+            if s is None:
+                s = self.sessions[model] = Session(model, self.roots)
+                self.decisions.setdefault(model, {})
+            return s
+
+    def request(self, op: str, body: dict) -> dict:
+        if op == "targets":
+            return self.targets()
+        s = self.session(body.get("model"))
+        key = s.model_path
+        with self.lock:
+            decisions = dict(self.decisions.get(key, {}))
+            version = self.versions.get(key, 0)
+
+        def cancelled() -> bool:
+            return self.versions.get(key, 0) != version
+
+        out, new = api.handle(s, op, body, decisions, cancel=cancelled, generate_folder=self.folder,
+                              generate_limit=self.limit)
+        if new != decisions:
+            with self.lock:
+                self.decisions[key] = new
+                self.versions[key] = version + 1
+        if op == "generate" and body.get("write", True):
+            out["written"] = api.write_files(s, out["files"])
+        out["model"] = out.get("model", key) if op == "model" else key
+        return out
+
+
+class Handler(BaseHTTPRequestHandler):
+    server_version = "tvl-lsp-ui"
+    sys_version = ""
+    protocol_version = "HTTP/1.1"
+
+    # set on the class by make_server
+    app: App
+    token: str
+    port: int
+    verbose: bool = False
+
+    def log_message(self, fmt, *args):  # quiet unless asked
+        if self.verbose:
+            sys.stderr.write("tvl-lsp ui: " + (fmt % args) + "\n")
+
+    # ------------------------------------------------------------------ checks
+    def _allowed_hosts(self) -> set[str]:
+        return {f"127.0.0.1:{self.port}", f"localhost:{self.port}"}
+
+    def _host_ok(self) -> bool:
+        return (self.headers.get("Host") or "").strip().lower() in self._allowed_hosts()
+
+    def _origin_ok(self) -> bool:
+        origin = self.headers.get("Origin")
+        if origin is None:
+            return True
+        return origin.strip().lower() in {"http://" + h for h in self._allowed_hosts()}
+
+    def _token_ok(self, query: dict) -> bool:
+        given = self.headers.get("X-TVL-Token") or (query.get("token") or [""])[0]
+        return bool(given) and hmac.compare_digest(given.encode(), self.token.encode())
+
+    def _send(self, status: int, body: bytes, ctype: str, extra: Optional[dict] = None) -> None:
+        self.send_response(status)
+        self.send_header("Content-Type", ctype)
+        self.send_header("Content-Length", str(len(body)))
+        self.send_header("Cache-Control", "no-store")
+        self.send_header("X-Content-Type-Options", "nosniff")
+        self.send_header("Referrer-Policy", "no-referrer")
+        self.send_header("X-Frame-Options", "DENY")
+        self.send_header("Content-Security-Policy", CSP)
+        for k, v in (extra or {}).items():
+            self.send_header(k, v)
+        self.end_headers()
+        if self.command != "HEAD":
+            self.wfile.write(body)
+
+    def _json(self, status: int, obj) -> None:
+        self._send(status, json.dumps(obj).encode(), "application/json; charset=utf-8")
+
+    def _refuse(self, status: int, msg: str) -> None:
+        self._send(status, (msg + "\n").encode(), "text/plain; charset=utf-8")
+
+    def _gate(self) -> Optional[dict]:
+        """The query, or None after refusing the request."""
+        if not self._host_ok():
+            self._refuse(HTTPStatus.FORBIDDEN, "forbidden: unexpected Host header")
+            return None
+        query = parse_qs(urlsplit(self.path).query)
+        if not self._token_ok(query):
+            self._refuse(HTTPStatus.FORBIDDEN, "forbidden: missing or wrong token")
+            return None
+        return query
+
+    # ------------------------------------------------------------------ routes
+    def do_GET(self):
+        if self._gate() is None:
+            return
+        route = urlsplit(self.path).path
+        if route in ("/", "/index.html"):
+            html = (STATIC / "index.html").read_text(encoding="utf-8").replace(TOKEN_PLACEHOLDER, self.token)
+            self._send(HTTPStatus.OK, html.encode(), "text/html; charset=utf-8")
+            return
+        if route.startswith("/static/"):
+            name = route[len("/static/"):]
+            f = (STATIC / name).resolve()
+            if "/" in name or name.startswith(".") or not f.is_file() or f.parent != STATIC.resolve():
+                self._refuse(HTTPStatus.NOT_FOUND, "not found")
+                return
+            ctype = mimetypes.guess_type(name)[0] or "application/octet-stream"
+            if ctype.startswith("text/") or ctype.endswith("javascript"):
+                ctype += "; charset=utf-8"
+            self._send(HTTPStatus.OK, f.read_bytes(), ctype)
+            return
+        self._refuse(HTTPStatus.NOT_FOUND, "not found")
+
+    do_HEAD = do_GET
+
+    def do_POST(self):
+        if self._gate() is None:
+            return
+        if not self._origin_ok():
+            self._refuse(HTTPStatus.FORBIDDEN, "forbidden: cross-origin request")
+            return
+        route = urlsplit(self.path).path
+        if not route.startswith("/api/"):
+            self._refuse(HTTPStatus.NOT_FOUND, "not found")
+            return
+        op = route[len("/api/"):]
+        ctype = (self.headers.get("Content-Type") or "").split(";")[0].strip().lower()
+        if ctype != "application/json":
+            self._refuse(HTTPStatus.UNSUPPORTED_MEDIA_TYPE, "the API takes application/json")
+            return
+        try:
+            n = int(self.headers.get("Content-Length") or 0)
+        except ValueError:
+            n = -1
+        if n < 0 or n > MAX_BODY:
+            self._refuse(HTTPStatus.REQUEST_ENTITY_TOO_LARGE, "request too large")
+            return
+        try:
+            body = json.loads(self.rfile.read(n) or b"{}")
+            if not isinstance(body, dict):
+                raise ValueError("not an object")
+        except ValueError:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": "the request body must be a JSON object"})
+            return
+        if op not in api.OPS and op != "targets":
+            self._json(HTTPStatus.NOT_FOUND, {"error": f"unknown request {op!r}"})
+            return
+        try:
+            out = self.app.request(op, body)
+        except SessionError as e:
+            self._json(HTTPStatus.UNPROCESSABLE_ENTITY, {"error": str(e)})
+            return
+        except Exception as e:  # a bug: say so, keep serving
+            self._json(HTTPStatus.INTERNAL_SERVER_ERROR, {"error": f"internal error: {type(e).__name__}: {e}"})
+            return
+        self._json(HTTPStatus.OK, out)
+
+    def do_PUT(self):
+        self._refuse(HTTPStatus.METHOD_NOT_ALLOWED, "method not allowed")
+
+    do_DELETE = do_PATCH = do_OPTIONS = do_PUT
+
+
+class UiServer(ThreadingHTTPServer):
+    daemon_threads = True
+    allow_reuse_address = True
+
+
+def make_server(path: str, port: int = 0, folder: Optional[str] = None, token: Optional[str] = None,
+                verbose: bool = False, limit: int = 100) -> tuple[UiServer, str]:
+    """The server (not yet serving) and its URL (with the token)."""
+    app = App(path, folder, limit)
+    token = token or secrets.token_urlsafe(24)
+    handler = type("BoundHandler", (Handler,), {"app": app, "token": token, "verbose": verbose})
+    httpd = UiServer(("127.0.0.1", port), handler)
+    handler.port = httpd.server_address[1]
+    url = f"http://127.0.0.1:{handler.port}/?token={token}"
+    app.warm_up()
+    return httpd, url
