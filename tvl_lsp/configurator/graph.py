@@ -74,7 +74,13 @@ class Graph:
             if c == fm.TRUE or (model_valid is not None and model_valid(c)):
                 return None
             return str(c)
-        els = [dict(e, condition=cond_text(k)) for k, e in self.elements.items()]
+        els = []
+        for k, e in self.elements.items():
+            e = dict(e, condition=cond_text(k))
+            variants = e.pop("variants", None)
+            if variants and len(variants) > 1:
+                e["details"] = dict(e["details"], variants=variants)
+            els.append(e)
         eds = [dict(e, condition=cond_text(k)) for k, e in self.edges.items()]
         return {"elements": els, "edges": eds, "source": self.source}
 
@@ -97,9 +103,16 @@ def build(launch, model_path: Optional[str] = None, workspace=None) -> Graph:
         if n.is_test:
             continue
         nid = "node:" + n.name
+        known = nid in g.elements
         e = g.add(nid, n.condition, kind="node", name=n.name, label=n.name.rsplit("/", 1)[-1] or n.name,
                   location=_loc(n.element.path, n.element.span),
                   details={"package": n.pkg, "type": n.type, "namespace": n.namespace, "remaps": []})
+        # one name, several <node> tags (e.g. one driver per feature): list every variant
+        variant = {"package": n.pkg, "type": n.type, "condition": str(n.condition),
+                   "location": _loc(n.element.path, n.element.span)}
+        e.setdefault("variants", [])
+        if not known or variant not in e["variants"]:
+            e["variants"].append(variant)
         for child in n.element.children:
             if child.tag != "remap" or "from" not in child.attrs or "to" not in child.attrs:
                 continue

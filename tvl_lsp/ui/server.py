@@ -253,6 +253,8 @@ class Handler(BaseHTTPRequestHandler):
         self._json(HTTPStatus.OK, out)
 
     def do_PUT(self):
+        if self._gate() is None:
+            return
         self._refuse(HTTPStatus.METHOD_NOT_ALLOWED, "method not allowed")
 
     do_DELETE = do_PATCH = do_OPTIONS = do_PUT

@@ -19,6 +19,7 @@ const SVGNS = 'http://www.w3.org/2000/svg';
 interface ViewNode {
   key: string;
   data: FeatureNode;
+  parentGroup: string | null; // the kind of the parent's group
   kids: ViewNode[];
   hidden: number; // children not shown (collapsed)
 }
@@ -34,6 +35,7 @@ export class Diagram {
   private svg: Selection<SVGSVGElement, unknown, null, undefined>;
   private layer: Selection<SVGGElement, unknown, null, undefined>;
   private linkLayer: Selection<SVGGElement, unknown, null, undefined>;
+  private arcLayer: Selection<SVGGElement, unknown, null, undefined>;
   private nodeLayer: Selection<SVGGElement, unknown, null, undefined>;
   private zoom: ZoomBehavior<SVGSVGElement, unknown>;
   private expanded = new Set<string>();
@@ -61,6 +63,7 @@ export class Diagram {
       .attr('aria-label', 'feature diagram') as unknown as Selection<SVGSVGElement, unknown, null, undefined>;
     this.layer = this.svg.append('g').attr('class', 'layer');
     this.linkLayer = this.layer.append('g').attr('class', 'links');
+    this.arcLayer = this.layer.append('g').attr('class', 'arcs');
     this.nodeLayer = this.layer.append('g').attr('class', 'nodes');
     this.zoom = d3zoom<SVGSVGElement, unknown>()
       .scaleExtent([0.1, 2.5])
@@ -92,16 +95,17 @@ export class Diagram {
   }
 
   private view(): ViewNode {
-    const build = (n: FeatureNode, key: string): ViewNode => {
+    const build = (n: FeatureNode, key: string, parentGroup: string | null): ViewNode => {
       const open = this.expanded.has(n.id) && !n.ref;
       return {
         key,
         data: n,
-        kids: open ? n.children.map((c, i) => build(c, `${key}/${i}:${c.id}`)) : [],
+        parentGroup,
+        kids: open ? n.children.map((c, i) => build(c, `${key}/${i}:${c.id}`, n.group?.kind ?? null)) : [],
         hidden: open || n.ref ? 0 : n.children.length,
       };
     };
-    return build(this.root, this.root.id);
+    return build(this.root, this.root.id, null);
   }
 
   status(id: string): FeatureStatus {
@@ -140,8 +144,29 @@ export class Diagram {
         const p = d.parent as HierarchyPointNode<ViewNode>;
         const y1 = p.y + H / 2;
         const y2 = d.y - H / 2 - 6;
-        const my = (y1 + y2) / 2;
-        return `M${p.x},${y1} C${p.x},${my} ${d.x},${my} ${d.x},${y2}`;
+        return `M${p.x},${y1} L${d.x},${y2}`; // straight, as FODA draws them (the group arcs sit on them)
+      });
+
+    // FODA's group arcs under a parent: hollow for oneOf (alternative), filled for someOf (or)
+    const grouped = nodes.filter((n) => (n.children?.length ?? 0) >= 2 &&
+      (n.data.data.group?.kind === 'oneOf' || n.data.data.group?.kind === 'someOf'));
+    const arcs = this.arcLayer.selectAll<SVGPathElement, HierarchyPointNode<ViewNode>>('path.arc')
+      .data(grouped, (d) => d.data.key);
+    arcs.exit().remove();
+    arcs.enter().append('path').merge(arcs)
+      .attr('class', (d) => `arc ${d.data.data.group?.kind}`)
+      .attr('d', (d) => {
+        const px = d.x;
+        const py = d.y + H / 2;
+        const angles = (d.children ?? []).map((c) => Math.atan2(c.y - H / 2 - 6 - py, c.x - px));
+        const a0 = Math.min(...angles);
+        const a1 = Math.max(...angles);
+        const r = 22;
+        const p0 = `${px + r * Math.cos(a0)},${py + r * Math.sin(a0)}`;
+        const p1 = `${px + r * Math.cos(a1)},${py + r * Math.sin(a1)}`;
+        return d.data.data.group?.kind === 'someOf'
+          ? `M${px},${py} L${p0} A${r},${r} 0 0 1 ${p1} Z`
+          : `M${p0} A${r},${r} 0 0 1 ${p1}`;
       });
 
     const sel = this.nodeLayer.selectAll<SVGGElement, HierarchyPointNode<ViewNode>>('g.feature')
@@ -195,7 +220,10 @@ export class Diagram {
     const title = document.createElementNS(SVGNS, 'title');
     title.textContent = f.longName + (f.ref ? ' (shared: declared elsewhere)' : '');
     g.node()?.appendChild(title);
-    if (f.id !== this.root.id || f.ref) {
+    // the circle on top: filled mandatory / empty optional under an allOf (and/[n..n]) parent; in
+    // oneOf / someOf / [i..j] groups the group decides, and only an explicit `opt` is marked
+    const marked = v.parentGroup !== null && (v.parentGroup === 'allOf' || f.optional);
+    if (marked) {
       g.append('circle').attr('class', f.optional ? 'mark optional' : 'mark mandatory')
         .attr('cx', 0).attr('cy', -H / 2 - 6).attr('r', 5.5)
         .append('title').text(f.optional ? 'optional' : 'mandatory');

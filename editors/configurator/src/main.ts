@@ -70,11 +70,11 @@ async function showLocation(loc: Location): Promise<void> {
   }
   try {
     const x = await t.request<Excerpt>('excerpt', { model: app?.model.model, path: loc.path, line: loc.line });
-    const pre = el('pre', { class: 'excerpt' });
+    const pre = el('div', { class: 'excerpt' });
     x.lines.forEach((line, i) => {
       const n = x.start + i;
-      pre.append(el('span', { class: n === loc.line ? 'line target' : 'line' },
-        el('span', { class: 'ln' }, String(n + 1).padStart(4, ' ')), ' ', line, '\n'));
+      pre.append(el('div', { class: n === loc.line ? 'line target' : 'line' },
+        el('span', { class: 'ln' }, String(n + 1).padStart(4, ' ')), '  ', line));
     });
     modal(`${x.relative}:${loc.line + 1}:${loc.col + 1}`, pre);
   } catch (e) {
@@ -211,6 +211,11 @@ function header(targets: Targets | null, m: ModelJson): HTMLElement {
       gen.classList.remove('open');
     }
   });
+  document.addEventListener('keydown', (ev) => {
+    if (ev.key === 'Escape') {
+      gen.classList.remove('open');
+    }
+  });
   gen.append(genBtn, items);
 
   const expand = el('button', { id: 'expand-all', title: 'expand the diagram (up to 400 features)' }, 'Expand');
@@ -295,7 +300,12 @@ function showGraphItem(e: GraphElement | GraphEdge, kind: 'element' | 'edge'): v
   ];
   const det = x.details ?? {};
   for (const [k, v] of Object.entries(det)) {
-    if (k === 'remaps' && Array.isArray(v)) {
+    if (k === 'variants' && Array.isArray(v)) {
+      const ul = el('ul', {});
+      (v as { package: string; type: string; condition: string; location: Location | null }[]).forEach((r) =>
+        ul.append(el('li', {}, el('code', {}, `${r.package}/${r.type}`), ' when ', el('code', {}, r.condition), ' ', locLink(r.location))));
+      rows.push(el('dt', {}, 'Variants'), el('dd', {}, ul));
+    } else if (k === 'remaps' && Array.isArray(v)) {
       if (v.length) {
         const ul = el('ul', {});
         (v as { from: string; to: string; condition: string; location: Location | null }[]).forEach((r) =>
@@ -343,7 +353,7 @@ function renderProblems(): void {
   const item = (p: Problem, out: boolean) => {
     const st = a.problemStatus[p.id];
     const li = el('li', { class: `problem sev-${p.severity}${out ? ' ruled-out' : ''}`, 'data-code': p.code, 'data-status': st },
-      el('span', { class: 'sev', title: p.severity }, p.severity === 'error' ? '⛔' : p.severity === 'warning' ? '⚠' : 'ℹ'),
+      el('span', { class: `sev sev-${p.severity}`, title: p.severity }, p.severity[0].toUpperCase()),
       el('span', { class: 'code' }, p.code),
       el('span', { class: 'msg' }, p.message),
       p.location ? locLink(p.location) : null,
@@ -521,7 +531,8 @@ function legend(): HTMLElement {
     item('st-user-in', 'included (you)'), item('st-implied-in', 'included (implied)'),
     item('st-user-out', 'excluded (you)'), item('st-implied-out', 'excluded (implied)'), item('st-open', 'open'),
     el('span', { class: 'legend-item' }, el('b', { class: 'dot mandatory' }), 'mandatory'),
-    el('span', { class: 'legend-item' }, el('b', { class: 'dot optional' }), 'optional'));
+    el('span', { class: 'legend-item' }, el('b', { class: 'dot optional' }), 'optional'),
+    el('span', { class: 'legend-item', title: 'a hollow arc: exactly one child (oneOf); a filled arc: at least one (someOf)' }, 'arcs: oneOf hollow, someOf filled'));
 }
 
 function graphLegend(): HTMLElement {

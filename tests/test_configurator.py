@@ -1,0 +1,211 @@
+"""The configurator's session logic (tvl_lsp/configurator), without any host."""
+
+from __future__ import annotations
+
+import itertools
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+from tvl_lsp.analysis import formula as fm
+from tvl_lsp.configurator import Session, SessionError
+from tvl_lsp.configurator.api import handle, write_files
+from tvl_lsp.configurator.problems import parse_condition
+
+REPO = Path(__file__).resolve().parent.parent
+TURTLE = REPO / "examples" / "ws" / "src" / "turtlerand" / "launch"
+BOT_WS = REPO / "tests" / "data" / "configurator" / "ws"
+BOT = BOT_WS / "src" / "bot" / "launch"
+
+
+@pytest.fixture(scope="module")
+def turtle():
+    return Session.open(str(TURTLE / "generic.tvl"))
+
+
+@pytest.fixture(scope="module")
+def bot():
+    return Session.open(str(BOT / "robot.launch"))
+
+
+def test_open_from_model_or_launch(turtle):
+    s = Session.open(str(TURTLE / "generic.launch"))
+    assert s.model_path == turtle.model_path
+    assert s.launch == str(TURTLE / "generic.launch")
+    with pytest.raises(SessionError):
+        Session.open(str(REPO / "README.md"))
+
+
+def test_tree_is_the_thesis_diagram(turtle):
+    t = turtle.tree()
+    assert t["id"] == "Turtlerand" and t["group"]["text"] == "allOf"
+    (sim,) = t["children"]
+    assert sim["name"] == "Turtlesim" and sim["optional"] is False
+    kids = {c["name"]: c for c in sim["children"]}
+    assert set(kids) == {"Teleop", "Random", "Multiplexer"}
+    assert all(c["optional"] for c in kids.values())
+    assert kids["Random"]["children"][0]["name"] == "Vel"
+    assert kids["Random"]["location"]["line"] == 13  # 0-based: "opt Random," in generic.tvl
+    card = Session.open(str(BOT / "robot.tvl")).tree()
+    base = next(c for c in card["children"] if c["name"] == "Base")
+    assert base["group"]["kind"] == "oneOf" and base["group"]["lo"] == 1 and base["group"]["hi"] == 1
+
+
+def test_include_random_propagates_and_counts(turtle):
+    d, refusal = turtle.decide({}, "Random", True)
+    assert refusal is None and d == {"Random": True}
+    st = turtle.state(d)
+    assert st["decisions"] == {"Random": True}
+    assert st["implied"] == {"Turtlerand": True, "Turtlesim": True, "Vel": True}
+    assert "Teleop" in st["open"] and not st["complete"]
+    c0, c1 = turtle.counts({}), turtle.counts(d)
+    assert (c0["total"], c0["remaining"], c1["remaining"]) == ("4", "4", "2")
+    assert c1["complete"] and c1["features"] == {"Turtlerand": "2", "Turtlesim": "2", "Teleop": "1", "Random": "2",
+                                                 "Multiplexer": "1", "Vel": "2"}
+    # reset one feature
+    d2, refusal = turtle.decide(d, "Random", None)
+    assert d2 == {} and refusal is None
+
+
+def test_conflicting_click_is_refused_with_the_minimal_reason(turtle):
+    d, _ = turtle.decide({}, "Random", True)
+    d2, refusal = turtle.decide(d, "Vel", False)
+    assert d2 == d  # unchanged
+    assert refusal.conflicts_with == {"Random": True}
+    assert [b["label"] for b in refusal.because] == ["Vel is mandatory in Random"]
+    assert "conflicts with your decision to include Random" in refusal.message
+    # without any decision of the user: the model alone forbids it
+    _, r = turtle.decide({}, "Turtlesim", False)
+    assert r.conflicts_with == {} and "no product excludes it" in r.message
+    assert {b["label"] for b in r.because} == {"Turtlerand is the root: it is always selected",
+                                                "Turtlesim is mandatory in Turtlerand"}
+    # only the decisions in the conflict are named, not the others
+    d3 = {"Random": True, "Teleop": True}
+    _, r = turtle.decide(d3, "Multiplexer", False)
+    assert r.conflicts_with == {"Random": True, "Teleop": True}
+
+
+def test_unknown_feature_and_bad_values(turtle):
+    with pytest.raises(SessionError):
+        turtle.decide({}, "Nope", True)
+    with pytest.raises(SessionError):
+        turtle.state({"Random": "yes"})
+    with pytest.raises(SessionError):
+        handle(turtle, "decide", {"feature": "Random", "value": 1}, {})
+    with pytest.raises(SessionError):
+        handle(turtle, "frobnicate", {}, {})
+
+
+def test_graph_projection(turtle):
+    ids = {e["id"] for e in turtle.model_json()["graph"]["elements"]}
+    assert {"node:/Turtlesim", "node:/Random", "node:/Teleop", "node:/Multiplexer", "param:/vel"} <= ids
+    g = {e["id"]: e for e in turtle.model_json()["graph"]["elements"]}
+    assert g["node:/Turtlesim"]["condition"] is None          # in every product: solid from the start
+    assert g["node:/Random"]["condition"] == "Random"
+    assert g["node:/Random"]["location"]["line"] == 21
+    before = turtle.state({})["graph"]
+    assert before["node:/Random"] == "possible" and before["node:/Turtlesim"] == "certain"
+    after = turtle.state({"Random": True})["graph"]
+    assert after["node:/Random"] == "certain" and after["param:/vel"] == "certain"
+    assert after["node:/Teleop"] == "possible"
+    gone = turtle.state({"Random": False})["graph"]
+    assert gone["node:/Random"] == "absent" and gone["param:/vel"] == "absent"
+
+
+def test_every_product_projects_to_its_own_elements(turtle):
+    """For each complete product, an element is certain iff its condition holds, else absent."""
+    conds = turtle.graph.conditions
+    names = [n for n in turtle.names]
+    for values in itertools.product([True, False], repeat=len(names)):
+        d = dict(zip(names, values))
+        try:
+            st = turtle.state(d)
+        except SessionError:
+            continue  # not a product
+        for eid, cond in conds.items():
+            assert st["graph"][eid] == ("certain" if fm.evaluate(cond, d) else "absent"), (d, eid)
+
+
+def test_problems_filtered_by_decisions(bot):
+    pj = bot.problems_json({})
+    dup = [p for p in pj["problems"] if p["code"] == "duplicate-node"]
+    assert len(dup) == 1 and dup[0]["condition"] == "Lidar && Camera"
+    pid = dup[0]["id"]
+    assert pj["status"][pid] == "possible"
+    assert bot.state({"Camera": False})["problems"][pid] == "excluded"
+    assert bot.state({"Camera": True, "Lidar": True})["problems"][pid] == "certain"
+    assert bot.state({"Camera": True})["problems"][pid] == "possible"
+
+
+def test_cardinality_counts_and_refusal(bot):
+    assert bot.counts({})["remaining"] == "12"
+    d, _ = bot.decide({}, "Sonar", True)
+    st = bot.state(d)
+    assert st["implied"]["Tracks"] is True and st["implied"]["Wheels"] is False
+    assert bot.counts(d)["remaining"] == "4"
+    _, r = bot.decide(d, "Wheels", True)
+    assert r.conflicts_with == {"Sonar": True}
+    labels = " ".join(b["label"] for b in r.because)
+    assert "Sonar -> Tracks" in labels
+
+
+def test_generate_current_completions_and_pairwise(tmp_path):
+    ws = tmp_path / "ws"
+    shutil.copytree(BOT_WS, ws)
+    s = Session.open(str(ws / "src" / "bot" / "launch" / "robot.tvl"))
+    with pytest.raises(SessionError, match="not complete"):
+        s.plan_generation({}, "current")
+    d = {"Tracks": True, "Sensors": True, "Lidar": True, "Camera": False, "Sonar": False}
+    files, out = s.plan_generation(d, "current")
+    assert len(files) == 1 and out == str(ws / "src" / "bot" / "configs")
+    assert '<arg name="Tracks" value="true"/>' in files[0].text
+    assert '<include file="$(find bot)/launch/robot.launch">' in files[0].text
+    written = write_files(s, [{"path": f.path, "text": f.text} for f in files])
+    assert Path(written[0]).read_text() == files[0].text
+    comp, _ = s.plan_generation({"Tracks": True}, "completions")
+    assert len(comp) == 8
+    sample, _ = s.plan_generation({}, "sample")
+    prods = [f.product for f in sample]
+    assert len(prods) < 12
+    # every valid pair of literals over the features is covered by the sample
+    allp = [p for p in s.analysis.enumerate(limit=None)]
+    feats = s.names
+    for a, b in itertools.combinations(feats, 2):
+        for va, vb in itertools.product([True, False], repeat=2):
+            if any(p[a] == va and p[b] == vb for p in allp):
+                assert any(p.get(a) == va and p.get(b) == vb for p in prods), (a, va, b, vb)
+    with pytest.raises(SessionError, match="outside the workspace"):
+        s.plan_generation(d, "current", folder=str(tmp_path / "elsewhere"))
+    with pytest.raises(SessionError, match="outside the workspace"):
+        write_files(s, [{"path": str(tmp_path / "x.launch"), "text": "x"}])
+
+
+def test_excerpt_only_of_own_files(turtle):
+    x = turtle.excerpt(str(TURTLE / "generic.launch"), 21)
+    assert x["lines"][x["line"] - x["start"]].strip().startswith('<node pkg="turtlerand" type="random_controller"')
+    with pytest.raises(SessionError):
+        turtle.excerpt(str(REPO / "pyproject.toml"), 0)
+    with pytest.raises(SessionError):
+        turtle.excerpt("/etc/passwd", 0)
+
+
+def test_parse_condition_round_trips():
+    for text in ["a", "!a", "a && b", "a || b && c", "(a || b) && !c", "!(a && b) || c", "true", "false"]:
+        f = parse_condition(text)
+        assert parse_condition(str(f)) == f
+    assert parse_condition("(a || b) && !c") == fm.conj([fm.disj([fm.var("a"), fm.var("b")]), fm.neg(fm.var("c"))])
+
+
+def test_api_model_state_counts(turtle):
+    out, d = handle(turtle, "model", {}, {})
+    assert out["tree"]["id"] == "Turtlerand" and out["state"]["decisions"] == {}
+    out, d = handle(turtle, "decide", {"feature": "Random", "value": True}, d)
+    assert out["ok"] and d == {"Random": True}
+    out, d2 = handle(turtle, "decide", {"feature": "Vel", "value": False}, d)
+    assert not out["ok"] and d2 == d and out["refused"]["conflictsWith"] == {"Random": True}
+    out, _ = handle(turtle, "counts", {"features": ["Teleop"]}, d)
+    assert out["remaining"] == "2" and out["features"] == {"Teleop": "1"}
+    out, d = handle(turtle, "reset", {}, d)
+    assert d == {} and out["state"]["decisions"] == {}

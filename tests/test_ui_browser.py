@@ -1,0 +1,233 @@
+"""The configurator in a real browser: headless Chromium (Debian's /usr/bin/chromium) driven by
+Playwright, clicking through ``tvl-lsp ui`` as a user would.
+
+Screenshots of failures go to ``.artifacts/ui/`` at the repository root (or ``$TVL_UI_ARTIFACTS``);
+``TVL_UI_SHOTS=1`` keeps them for passing tests too.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parent.parent
+CHROMIUM = os.environ.get("TVL_CHROMIUM", "/usr/bin/chromium")
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+         "--disable-component-update", "--disable-sync", "--no-first-run"]
+ARTIFACTS = Path(os.environ.get("TVL_UI_ARTIFACTS", REPO / ".artifacts" / "ui"))
+
+if not os.path.exists(CHROMIUM) or not shutil.which(CHROMIUM):
+    if os.environ.get("CI"):
+        raise RuntimeError(f"CI needs Chromium at {CHROMIUM} (apt-get install chromium)")
+    pytest.skip(f"no Chromium at {CHROMIUM}", allow_module_level=True)
+sync_api = pytest.importorskip("playwright.sync_api")
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture()
+def ws(tmp_path):
+    d = tmp_path / "ws"
+    shutil.copytree(REPO / "examples" / "ws", d)
+    return d
+
+
+@pytest.fixture()
+def ui(ws):
+    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(ws), "--no-browser"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    url = proc.stdout.readline().strip()
+    assert url.startswith("http://127.0.0.1:"), proc.stderr.read()
+    yield url
+    proc.terminate()
+    proc.wait(timeout=20)
+
+
+@pytest.fixture()
+def page(browser, request):
+    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+    pg = ctx.new_page()
+    errors: list[str] = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.on("console", lambda m: m.type == "error" and errors.append(m.text))
+    failed_before = request.session.testsfailed
+    yield pg
+    failed = request.session.testsfailed > failed_before
+    if failed or os.environ.get("TVL_UI_SHOTS"):
+        ARTIFACTS.mkdir(parents=True, exist_ok=True)
+        shot = ARTIFACTS / f"{request.node.name}.png"
+        try:
+            pg.screenshot(path=str(shot), full_page=True)
+            print(f"screenshot: {shot}")
+        except Exception as e:  # the page may be gone
+            print(f"no screenshot: {e}")
+    ctx.close()
+    assert not errors, errors
+
+
+def open_ui(page, url):
+    page.goto(url)
+    page.wait_for_selector("body[data-graph=ready]", timeout=30000)
+    page.wait_for_selector("#remaining:not([data-remaining=''])", timeout=30000)
+    page.wait_for_selector("body[data-problems=ready]", timeout=30000)
+
+
+def feature(page, name):
+    return page.locator(f'g.feature[data-feature="{name}"]')
+
+
+def remaining(page):
+    return page.locator("#remaining").get_attribute("data-remaining")
+
+
+def positions(page):
+    return page.evaluate("""() => Object.fromEntries([...document.querySelectorAll('g.element')]
+        .map(g => [g.dataset.id, g.getAttribute('transform')]))""")
+
+
+def click(page, name, what):
+    page.locator(f'g.feature[data-feature="{name}"] .btn-{what}').click()
+
+
+def wait_counts(page, n):
+    page.wait_for_selector(f"#remaining[data-remaining='{n}']", timeout=30000)
+
+
+def test_include_random(page, ui):
+    open_ui(page, ui)
+    assert remaining(page) == "4"
+    assert page.locator("#total").text_content() == "4"
+    assert feature(page, "Random").get_attribute("data-status") == "open"
+    assert feature(page, "Turtlesim").get_attribute("data-status") == "implied-in"
+    rnd = page.locator('g.element[data-id="node:/Random"]')
+    assert rnd.get_attribute("data-status") == "possible"
+    dash = "getComputedStyle(document.querySelector('g.element[data-id=\"node:/Random\"] .shape')).strokeDasharray"
+    assert page.evaluate(dash) not in ("none", "")
+    before = positions(page)
+    assert len(before) >= 6
+
+    click(page, "Random", "include")
+    wait_counts(page, "2")
+    assert feature(page, "Random").get_attribute("data-status") == "user-in"
+    assert feature(page, "Vel").get_attribute("data-status") == "implied-in"     # propagated, shown apart
+    assert feature(page, "Teleop").get_attribute("data-status") == "open"        # still open
+    assert "in 1 (50 %)" in feature(page, "Teleop").locator("text.count").text_content()
+    assert rnd.get_attribute("data-status") == "certain"
+    assert page.evaluate(dash) in ("none", "")                                     # solid now
+    assert positions(page) == before                                              # nothing moved
+    # the user's decision and the implied one look different
+    fill = "n => getComputedStyle(document.querySelector(`g.feature[data-feature='${n}'] rect.box`)).fill"
+    assert page.evaluate(fill, "Random") != page.evaluate(fill, "Vel")
+
+    # excluding Random hides its node and its parameter; still nothing moves
+    click(page, "Random", "exclude")
+    wait_counts(page, "2")
+    assert rnd.get_attribute("data-status") == "absent"
+    assert page.locator('g.element[data-id="param:/vel"]').get_attribute("data-status") == "absent"
+    sync_api.expect(rnd).to_have_css("opacity", "0")
+    assert positions(page) == before
+    # undo: clicking your own decision again resets it
+    click(page, "Random", "exclude")
+    wait_counts(page, "4")
+    assert feature(page, "Random").get_attribute("data-status") == "open"
+
+
+def test_conflicting_exclusion_is_refused(page, ui):
+    open_ui(page, ui)
+    click(page, "Random", "include")
+    wait_counts(page, "2")
+    click(page, "Vel", "exclude")
+    toast = page.locator(".toast.refusal")
+    toast.wait_for(timeout=15000)
+    text = toast.text_content()
+    assert "Exclude Vel: refused" in text
+    assert "include Random" in text and "Vel is mandatory in Random" in text
+    assert feature(page, "Vel").get_attribute("data-status") == "implied-in"
+    assert remaining(page) == "2"
+    # the reason links to the model
+    toast.locator("a.loc").first.click()
+    modal = page.locator(".modal .excerpt")
+    modal.wait_for(timeout=15000)
+    assert "Vel" in modal.locator(".line.target").text_content()
+
+
+def test_generate_the_current_product(page, ui, ws):
+    open_ui(page, ui)
+    page.locator("#generate").click()
+    assert page.locator('[data-mode="current"]').is_disabled()
+    page.keyboard.press("Escape")
+    for name, what in (("Random", "include"), ("Teleop", "exclude"), ("Multiplexer", "exclude")):
+        click(page, name, what)
+        page.wait_for_selector(f"g.feature[data-feature='{name}'][data-status='user-{'in' if what == 'include' else 'out'}']",
+                               timeout=15000)
+    wait_counts(page, "1")
+    page.wait_for_selector("body[data-complete=true]")
+    page.locator("#generate").click()
+    page.locator('[data-mode="current"]').click()
+    done = page.locator(".generated")
+    done.wait_for(timeout=30000)
+    assert done.get_attribute("data-count") == "1"
+    path = Path(done.locator("li[data-path]").first.get_attribute("data-path"))
+    assert path.is_file() and ws in path.parents
+    text = path.read_text()
+    assert '<arg name="Random" value="true"/>' in text and '<arg name="Teleop" value="false"/>' in text
+    assert '<include file="$(find turtlerand)/launch/generic.launch">' in text
+
+
+def test_select_graph_element_shows_condition_and_source(page, ui):
+    open_ui(page, ui)
+    page.locator('g.element[data-id="node:/Random"]').click()
+    d = page.locator("#details")
+    assert d.locator('[data-field="condition"]').text_content() == "Random"
+    assert d.locator('[data-field="location"]').text_content() == "src/turtlerand/launch/generic.launch:22:3"
+    assert "cmd_vel_low" in d.locator('[data-field="links"]').text_content()
+    d.locator('[data-field="location"] a').click()
+    page.locator(".modal .line.target").wait_for(timeout=15000)
+    assert "random_controller" in page.locator(".modal .line.target").text_content()
+
+
+def test_search_and_collapse(page, ui):
+    open_ui(page, ui)
+    page.keyboard.press("/")
+    page.keyboard.type("vel")
+    page.locator('#search-results li[data-feature="Vel"]').wait_for()
+    page.keyboard.press("Enter")
+    assert "highlight" in feature(page, "Vel").get_attribute("class")
+    # collapsing a feature hides its subtree, showing how many children are hidden
+    feature(page, "Turtlesim").locator("rect.box").click()
+    assert feature(page, "Teleop").count() == 0
+    assert "3" in feature(page, "Turtlesim").locator("text.more").text_content()
+    feature(page, "Turtlesim").locator("rect.box").click()
+    assert feature(page, "Teleop").count() == 1
+
+
+def test_problems_follow_the_decisions(page, tmp_path):
+    """A problem that only some products have disappears once the decisions rule it out."""
+    ws = tmp_path / "bot"
+    shutil.copytree(REPO / "tests" / "data" / "configurator" / "ws", ws)
+    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(ws), "--no-browser"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        open_ui(page, proc.stdout.readline().strip())
+        dup = page.locator('.problem[data-code="duplicate-node"]')
+        assert dup.count() == 1 and dup.get_attribute("data-status") == "possible"
+        page.locator('g.feature[data-feature="Sensors"] rect.box').click() if feature(page, "Camera").count() == 0 else None
+        click(page, "Camera", "exclude")
+        page.wait_for_selector("#problem-count[data-ruled-out='1']", timeout=15000)
+        assert page.locator('.problem[data-code="duplicate-node"]').count() == 0
+        page.locator("#show-ruled-out").check()
+        assert page.locator('.problem.ruled-out[data-code="duplicate-node"]').count() == 1
+    finally:
+        proc.terminate()
+        proc.wait(timeout=20)
