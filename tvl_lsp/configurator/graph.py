@@ -85,17 +85,107 @@ class Graph:
         return {"elements": els, "edges": eds, "source": self.source}
 
 
-def _from_graph_package(launch, model_path, workspace):  # pragma: no cover - until #16 lands
-    try:
-        from .. import graph as g  # noqa: F401  (issue #16)
-    except ImportError:
+    def statuses(self, decisions: Mapping[str, bool], logic) -> dict[str, str]:
+        return project(self, decisions_formula(decisions), logic)
+
+    def close(self) -> None:
+        pass
+
+
+# ------------------------------------------------------------------ issue #16's graph
+
+_EDGE_DIRECTION = {"publish": True, "client": True, "write": True,   # node -> resource
+                   "subscribe": False, "service": False, "read": False}
+
+
+def _loc16(x: Optional[dict]) -> Optional[dict]:
+    if not x or "file" not in x:
         return None
-    return None  # adapter written when the package's API is on main
+    r = x.get("range") or {}
+    s, e = r.get("start") or {}, r.get("end") or {}
+    return {"path": x["file"], "line": s.get("line", 0), "col": s.get("character", 0),
+            "endLine": e.get("line", s.get("line", 0)), "endCol": e.get("character", s.get("character", 0))}
 
 
-def build(launch, model_path: Optional[str] = None, workspace=None) -> Graph:
-    """The graph of every product of the analysed launch file ``launch`` (a LaunchAnalysis)."""
-    got = _from_graph_package(launch, model_path, workspace)
+class PackageGraph:
+    """The graph of :mod:`tvl_lsp.graph` (issue #16: topics from the HAROS project's hints, remaps
+    under their conditions), in the configurator's shape; projected by that package."""
+
+    source = "tvl_lsp.graph"
+
+    def __init__(self, ctx, to_json):
+        self.ctx = ctx
+        self._to_json = to_json
+        self._all = to_json(ctx.project({}))
+
+    @staticmethod
+    def load(launch_path: str, model_path: Optional[str], workspace, read_file) -> Optional["PackageGraph"]:
+        try:
+            from ..graph import to_json
+            from ..project.graph import load_graph
+        except ImportError:
+            return None
+        ctx = load_graph(launch_path, read_file=read_file, workspace=workspace, model=model_path)
+        return PackageGraph(ctx, to_json)
+
+    def to_json(self, model_valid=None) -> dict:
+        j = self._all
+        els: list[dict] = []
+        for n in j.get("nodes", []):
+            det = {"package": n.get("package"), "type": n.get("type"), "namespace": n.get("namespace")}
+            if n.get("note"):
+                det["note"] = n["note"]
+            if n.get("hints"):
+                det["hints"] = ", ".join(f"{h.get('label', '')}" for h in n["hints"] if h)
+            els.append({"id": n["id"], "kind": "node", "name": n["name"], "label": n["name"].rsplit("/", 1)[-1] or n["name"],
+                        "condition": n.get("condition"), "location": _loc16((n.get("locations") or [None])[0]),
+                        "details": det})
+        for key, kind in (("topics", "topic"), ("services", "service"), ("parameters", "param")):
+            for r in j.get(key, []):
+                det = {}
+                if r.get("type"):
+                    det["type"] = r["type"]
+                elif r.get("types"):
+                    det["types"] = ", ".join(f"{t['type']} when {t['condition'] or 'always'}" for t in r["types"])
+                if "value" in r and r["value"] is not None:
+                    det["value"] = r["value"]
+                els.append({"id": r["id"], "kind": kind, "name": r["name"], "label": r["name"],
+                            "condition": r.get("condition"),
+                            "location": _loc16((r.get("locations") or [None])[0]), "details": det})
+        edges = []
+        for ln in j.get("links", []):
+            out = _EDGE_DIRECTION.get(ln["kind"], True)
+            via = (ln.get("via") or [None])[0] or {}
+            loc = _loc16(via.get("remap")) or _loc16(via.get("hint"))
+            edges.append({"id": ln["id"], "source": ln["node_id"] if out else ln["resource_id"],
+                          "target": ln["resource_id"] if out else ln["node_id"], "kind": ln["kind"],
+                          "condition": ln.get("condition"), "location": loc})
+        return {"elements": els, "edges": edges, "source": self.source, "notes": j.get("notes", [])}
+
+    @property
+    def ids(self) -> list[str]:
+        j = self._all
+        return ([x["id"] for x in j.get("nodes", [])] + [x["id"] for k in ("topics", "services", "parameters")
+                                                         for x in j.get(k, [])] + [x["id"] for x in j.get("links", [])])
+
+    def statuses(self, decisions: Mapping[str, bool], logic=None) -> dict[str, str]:
+        j = self._to_json(self.ctx.project(dict(decisions)))
+        present = {x["id"]: x.get("condition") for k in ("nodes", "topics", "services", "parameters", "links")
+                   for x in j.get(k, [])}
+        return {i: ("absent" if i not in present else "certain" if present[i] is None else "possible")
+                for i in self.ids}
+
+    def close(self) -> None:
+        self.ctx.close()
+
+
+def build(launch, model_path: Optional[str] = None, workspace=None, read_file=None):
+    """The graph of every product of the analysed launch file ``launch`` (a LaunchAnalysis):
+    issue #16's when :mod:`tvl_lsp.graph` is installed, else the interim one."""
+    try:
+        got = PackageGraph.load(launch.path, model_path, workspace, read_file)
+    except Exception:  # the interim graph rather than none
+        got = None
     if got is not None:
         return got
     g = Graph()

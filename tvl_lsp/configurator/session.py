@@ -102,7 +102,7 @@ class Session:
         if self.launch:
             self._launch_analysis = self._analyse_launch(self.launch)
         self.logic = PairLogic(self.analysis.encoding, self._free)
-        self.graph = (graphmod.build(self._launch_analysis, self.model_path, self.workspace)
+        self.graph = (graphmod.build(self._launch_analysis, self.model_path, self.workspace, self.read_file)
                       if self._launch_analysis is not None else graphmod.Graph())
         self._problems: Optional[list] = None
         self._states: OrderedDict = OrderedDict()
@@ -296,7 +296,7 @@ class Session:
             if not p.ok:
                 raise SessionError("the decisions conflict: " + ", ".join(p.conflict or []))
             decided = graphmod.decisions_formula(decisions)
-            graph = graphmod.project(self.graph, decided, self.logic)
+            graph = self.graph.statuses(decisions, self.logic)
             out = {"decisions": dict(decisions), "implied": dict(p.forced), "open": list(p.open),
                    "complete": not p.open, "graph": graph}
             self._states[key] = out
