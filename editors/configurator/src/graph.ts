@@ -68,25 +68,35 @@ export class GraphView {
     const worker = await this.makeWorker();
     const elk = new ELK({ workerFactory: () => worker });
     const ids = new Set(this.graph.elements.map((e) => e.id));
-    const input: ElkNode = {
+    const input = (direction: string): ElkNode => ({
       id: 'root',
       layoutOptions: {
         'elk.algorithm': 'layered',
-        'elk.direction': 'RIGHT',
-        'elk.spacing.nodeNode': '22',
-        'elk.layered.spacing.nodeNodeBetweenLayers': '56',
+        'elk.direction': direction,
+        'elk.spacing.nodeNode': '20',
+        'elk.layered.spacing.nodeNodeBetweenLayers': '40',
         'elk.edgeRouting': 'POLYLINE',
         'elk.layered.considerModelOrder.strategy': 'NODES_AND_EDGES',
         'elk.separateConnectedComponents': 'true',
-        'elk.spacing.componentComponent': '30',
+        'elk.spacing.componentComponent': '28',
         'elk.randomSeed': '1',
       },
       children: this.graph.elements.map((e) => ({ id: e.id, ...toWH(size(e)) })),
       edges: this.graph.edges
         .filter((e) => ids.has(e.source) && ids.has(e.target))
         .map((e) => ({ id: e.id, sources: [e.source], targets: [e.target] }) as ElkExtendedEdge),
-    };
-    const out = await elk.layout(input);
+    });
+    // left to right as HAROS draws it, or top-down when that fits the panel better (decided
+    // once, at load: the layout never changes afterwards)
+    const box = this.host.getBoundingClientRect();
+    const scale = (g: ElkNode) => Math.min((box.width || 600) / (g.width || 1), (box.height || 400) / (g.height || 1));
+    let out = await elk.layout(input('RIGHT'));
+    if (this.graph.elements.length <= 400) {
+      const down = await elk.layout(input('DOWN'));
+      if (scale(down) > 1.15 * scale(out)) {
+        out = down;
+      }
+    }
     elk.terminateWorker();
     for (const c of out.children ?? []) {
       this.placed.set(c.id, { x: c.x ?? 0, y: c.y ?? 0, w: c.width ?? 0, h: c.height ?? 0 });
