@@ -14,6 +14,7 @@ FEATURE_MODULES = (
     "code_lens",
     "commands",      # configurator + configuration generation
     "graph",         # the computation graph command (hover uses it too)
+    "configurator",  # the configurator view's one request (tvl-lsp.configurator)
 )
 
 

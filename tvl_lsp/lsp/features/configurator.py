@@ -1,0 +1,76 @@
+"""``tvl-lsp.configurator``: the configurator's one request for the VS Code webview (and any
+client that draws it), answered by the same pure API as ``tvl-lsp ui``
+(:mod:`tvl_lsp.configurator.api`).
+
+    workspace/executeCommand tvl-lsp.configurator [uri, op, params?]
+
+``uri``: a model, or a launch file paired with one; ``op``: model | state | decide | reset |
+counts | problems | generate | excerpt (see :mod:`tvl_lsp.configurator.api`).  The decisions are
+the server's (``tvl-lsp.include`` / ``exclude`` / ``reset`` share them); ``generate`` writes the
+files through ``workspace/applyEdit`` when the client can create files, else itself, in the
+folder of the ``generate.folder`` setting.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from pygls.exceptions import JsonRpcInvalidParams
+
+from .commands import _in_worker, _path, _refresh_lens, can_create, creation_edit, model_of
+
+CONFIGURATOR = "tvl-lsp.configurator"
+_OPS = ("model", "state", "decide", "reset", "counts", "problems", "generate", "excerpt")
+
+
+def register(ls) -> None:
+    @ls.command(CONFIGURATOR)
+    async def configurator(ls, *args):
+        from ...configurator import pool
+        from ..checks import file_kind
+        path = _path(args[0] if args else None)
+        op = args[1] if len(args) > 1 else "model"
+        if op not in _OPS:
+            raise JsonRpcInvalidParams(f"the second argument must be one of: {', '.join(_OPS)}")
+        params = args[2] if len(args) > 2 and isinstance(args[2], dict) else {}
+        model = model_of(ls, path)
+        launch = path if file_kind(path) != "tvl" else None
+        roots = ls.roots_for(model)
+        texts: dict[str, str] = dict(await ls.model_sources(model) or {})
+        for lf in ([launch] if launch else ls.launches_for_model(model)):
+            t = ls.read_file(lf)
+            if t is not None:
+                texts[lf] = t
+        decisions = dict(ls.decisions.get(model, {}))
+        res = await _in_worker(ls, pool.run, model, roots, texts, op, params, decisions, launch,
+                               ls.settings.generate_folder or None, ls.settings.generate_limit)
+        if "error" in res:
+            raise JsonRpcInvalidParams(res["error"])
+        if res["decisions"] != decisions:
+            ls.decisions[model] = res["decisions"]
+            _refresh_lens(ls)
+        out = res["result"]
+        if op == "generate":
+            out["written"] = await _write(ls, out["files"], roots)
+        return out
+
+
+async def _write(ls, files: list[dict], roots: list[str]) -> list[str]:
+    from ...project.generate import GeneratedFile, inside
+    for f in files:
+        if not inside(f["path"], roots):
+            raise JsonRpcInvalidParams(f"{f['path']} is outside the workspace: not written")
+    gen = [GeneratedFile(f["path"], f["text"]) for f in files]
+    if gen and can_create(ls):
+        from lsprotocol import types
+        result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
+            edit=creation_edit(gen), label="Generate configuration launch files"))
+        if not getattr(result, "applied", False):
+            raise JsonRpcInvalidParams("the editor did not create the files")
+    else:
+        for f in gen:
+            os.makedirs(Path(f.path).parent, exist_ok=True)
+            with open(f.path, "w", encoding="utf-8") as fh:
+                fh.write(f.text)
+    return [f.path for f in gen]
