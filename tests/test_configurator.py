@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.analysis import formula as fm
+from tvl_lsp.base import formula as fm
 from tvl_lsp.configurator import Session, SessionError
 from tvl_lsp.configurator.api import handle, write_files
 from tvl_lsp.configurator.problems import parse_condition

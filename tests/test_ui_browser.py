@@ -45,7 +45,9 @@ def ws(tmp_path):
 
 @pytest.fixture()
 def ui(ws):
-    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(ws), "--no-browser"],
+    # the node hints of turtlerand (what each node publishes / subscribes): topics in the graph
+    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(ws), "--no-browser",
+                             "--project", str(ws / "turtlerand_nodes.yaml")],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     url = proc.stdout.readline().strip()
     assert url.startswith("http://127.0.0.1:"), proc.stderr.read()
@@ -132,8 +134,9 @@ def test_include_random(page, ui):
 
     # excluding Random hides its node and its parameter; still nothing moves
     click(page, "Random", "exclude")
+    page.wait_for_selector("g.feature[data-feature='Random'][data-status='user-out']", timeout=15000)
     wait_counts(page, "2")
-    assert rnd.get_attribute("data-status") == "absent"
+    page.wait_for_selector('g.element[data-id="node:/Random"][data-status="absent"]', timeout=15000)
     assert page.locator('g.element[data-id="param:/vel"]').get_attribute("data-status") == "absent"
     sync_api.expect(rnd).to_have_css("opacity", "0")
     assert positions(page) == before
@@ -191,7 +194,8 @@ def test_select_graph_element_shows_condition_and_source(page, ui):
     d = page.locator("#details")
     assert d.locator('[data-field="condition"]').text_content() == "Random"
     assert d.locator('[data-field="location"]').text_content() == "src/turtlerand/launch/generic.launch:22:3"
-    assert "cmd_vel_low" in d.locator('[data-field="links"]').text_content()
+    links = d.locator('[data-field="links"]').text_content()
+    assert "publish /cmd_vel_low" in links and "read /vel" in links
     d.locator('[data-field="location"] a').click()
     page.locator(".modal .line.target").wait_for(timeout=15000)
     assert "random_controller" in page.locator(".modal .line.target").text_content()

@@ -119,13 +119,15 @@ class PackageGraph:
         self._all = to_json(ctx.project({}))
 
     @staticmethod
-    def load(launch_path: str, model_path: Optional[str], workspace, read_file) -> Optional["PackageGraph"]:
+    def load(launch_path: str, model_path: Optional[str], workspace, read_file,
+             project_files=None) -> Optional["PackageGraph"]:
         try:
             from ..graph import to_json
             from ..project.graph import load_graph
         except ImportError:
             return None
-        ctx = load_graph(launch_path, read_file=read_file, workspace=workspace, model=model_path)
+        ctx = load_graph(launch_path, read_file=read_file, workspace=workspace, model=model_path,
+                         project_files=project_files)
         return PackageGraph(ctx, to_json)
 
     def to_json(self, model_valid=None) -> dict:
@@ -179,11 +181,12 @@ class PackageGraph:
         self.ctx.close()
 
 
-def build(launch, model_path: Optional[str] = None, workspace=None, read_file=None):
+def build(launch, model_path: Optional[str] = None, workspace=None, read_file=None, project_files=None):
     """The graph of every product of the analysed launch file ``launch`` (a LaunchAnalysis):
-    issue #16's when :mod:`tvl_lsp.graph` is installed, else the interim one."""
+    issue #16's when :mod:`tvl_lsp.graph` is installed (node hints from ``project_files``, else
+    from the workspace's HAROS project files), else the interim one."""
     try:
-        got = PackageGraph.load(launch.path, model_path, workspace, read_file)
+        got = PackageGraph.load(launch.path, model_path, workspace, read_file, project_files)
     except Exception:  # the interim graph rather than none
         got = None
     if got is not None:

@@ -61,7 +61,8 @@ def _key(decisions: Mapping[str, bool]) -> tuple:
 
 class Session:
     def __init__(self, model_path: str, roots: Optional[Iterable[str]] = None,
-                 read_file: Optional[ReadFile] = None, launches: Optional[list[str]] = None):
+                 read_file: Optional[ReadFile] = None, launches: Optional[list[str]] = None,
+                 project_files: Optional[list[str]] = None):
         from ..analysis.solve import PairLogic
         from ..analysis.engine import ModelAnalysis
         from ..tvl import parse_model
@@ -101,8 +102,11 @@ class Session:
         self._free: list[str] = []
         if self.launch:
             self._launch_analysis = self._analyse_launch(self.launch)
+        self.known_extra = set(norm(p) for p in project_files or [])
         self.logic = PairLogic(self.analysis.encoding, self._free)
-        self.graph = (graphmod.build(self._launch_analysis, self.model_path, self.workspace, self.read_file)
+        self.project_files = [norm(p) for p in project_files] if project_files else None
+        self.graph = (graphmod.build(self._launch_analysis, self.model_path, self.workspace, self.read_file,
+                                     self.project_files)
                       if self._launch_analysis is not None else graphmod.Graph())
         self._problems: Optional[list] = None
         self._states: OrderedDict = OrderedDict()
@@ -112,19 +116,20 @@ class Session:
     # ------------------------------------------------------------------ opening
     @classmethod
     def open(cls, path: str, roots: Optional[Iterable[str]] = None,
-             read_file: Optional[ReadFile] = None) -> "Session":
-        """A session for a model, or for the model paired with a launch file."""
+             read_file: Optional[ReadFile] = None, project_files: Optional[list[str]] = None) -> "Session":
+        """A session for a model, or for the model paired with a launch file (``project_files``:
+        where the graph's node hints are, default: the workspace's HAROS project files)."""
         path = norm(path)
         read_file = read_file or default_read_file
         if is_model(path):
-            return cls(path, roots, read_file)
+            return cls(path, roots, read_file, project_files=project_files)
         if is_launch(path):
             roots = [norm(r) for r in roots] if roots else [find_workspace_root(path)]
             ws = load_workspace(roots, read_file)
             models = [p.model for p in ws.pair(path, read_file(path))[0] if p.model]
             if not models:
                 raise SessionError(f"{os.path.basename(path)} is not paired with a feature model")
-            return cls(models[0], roots, read_file, launches=[path])
+            return cls(models[0], roots, read_file, launches=[path], project_files=project_files)
         raise SessionError(f"{path} is neither a TVL model nor a launch file")
 
     def _analyse_launch(self, path: str):
@@ -384,7 +389,11 @@ class Session:
 
     # ------------------------------------------------------------------ sources
     def known_files(self) -> set[str]:
-        out = set(self.sources) | set(self.launches)
+        out = set(self.sources) | set(self.launches) | self.known_extra
+        g = self.graph.to_json()
+        for x in g["elements"] + g["edges"]:
+            if x.get("location"):
+                out.add(x["location"]["path"])
         if self._launch_analysis is not None:
             out |= {e.path for e in self._launch_analysis.elements}
         for p in self.problems():

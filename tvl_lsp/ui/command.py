@@ -1,4 +1,5 @@
-"""``tvl-lsp ui [PATH] [--port N] [--no-browser] [--folder DIR]``: the configurator in the browser.
+"""``tvl-lsp ui [PATH] [--port N] [--no-browser] [--folder DIR] [--project FILE]``: the
+configurator in the browser.
 
 Serves the feature diagram, the computation graph and the filtered problems of the workspace
 at PATH (a folder, a model or a generic launch file; default: the current folder) on
@@ -26,6 +27,9 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--no-browser", action="store_true", help="print the URL only")
     ap.add_argument("--folder", help="where Generate writes configuration launch files (absolute, or "
                                      "relative to the launch file's package; default: configs)")
+    ap.add_argument("--project", action="append", metavar="FILE",
+                    help="a YAML file with the graph's node hints (HAROS `nodes:`; repeatable; default: the "
+                         "workspace's HAROS project files)")
     ap.add_argument("--limit", type=int, default=100, help="at most this many files per Generate (default 100)")
     ap.add_argument("--verbose", "-v", action="store_true", help="log every request on stderr")
     try:
@@ -39,7 +43,8 @@ def main(argv: list[str]) -> int:
     from ..configurator import SessionError
     from .server import make_server
     try:
-        httpd, url = make_server(args.path, args.port, args.folder, verbose=args.verbose, limit=max(1, args.limit))
+        httpd, url = make_server(args.path, args.port, args.folder, verbose=args.verbose, limit=max(1, args.limit),
+                                 project_files=args.project)
     except SessionError as ex:
         print(f"tvl-lsp ui: {ex}", file=sys.stderr)
         return 2

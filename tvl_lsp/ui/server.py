@@ -44,13 +44,15 @@ CSP = ("default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' 
 class App:
     """The state behind the server: one :class:`Session` per model, the decisions per model."""
 
-    def __init__(self, path: str, folder: Optional[str] = None, limit: int = 100):
+    def __init__(self, path: str, folder: Optional[str] = None, limit: int = 100,
+                 project_files: Optional[list[str]] = None):
         path = norm(path)
         if not os.path.exists(path):
             raise SessionError(f"{path} does not exist")
         self.roots = [find_workspace_root(path)]
         self.folder = folder
         self.limit = limit
+        self.project_files = [norm(p) for p in project_files] if project_files else None
         self.lock = threading.Lock()
         self.sessions: dict[str, Session] = {}
         self.decisions: dict[str, dict[str, bool]] = {}
@@ -59,7 +61,7 @@ class App:
         if is_model(path):
             self.initial = path
         elif is_launch(path):
-            s = Session.open(path, self.roots)
+            s = Session.open(path, self.roots, project_files=project_files)
             self.sessions[s.model_path] = s
             self.initial = s.model_path
         self._targets: Optional[list[dict]] = None
@@ -94,7 +96,7 @@ class App:
         with self.lock:
             s = self.sessions.get(model)
             if s is None:
-                s = self.sessions[model] = Session(model, self.roots)
+                s = self.sessions[model] = Session(model, self.roots, project_files=self.project_files)
                 self.decisions.setdefault(model, {})
             return s
 
@@ -266,9 +268,10 @@ class UiServer(ThreadingHTTPServer):
 
 
 def make_server(path: str, port: int = 0, folder: Optional[str] = None, token: Optional[str] = None,
-                verbose: bool = False, limit: int = 100) -> tuple[UiServer, str]:
+                verbose: bool = False, limit: int = 100,
+                project_files: Optional[list[str]] = None) -> tuple[UiServer, str]:
     """The server (not yet serving) and its URL (with the token)."""
-    app = App(path, folder, limit)
+    app = App(path, folder, limit, project_files)
     token = token or secrets.token_urlsafe(24)
     handler = type("BoundHandler", (Handler,), {"app": app, "token": token, "verbose": verbose})
     httpd = UiServer(("127.0.0.1", port), handler)
