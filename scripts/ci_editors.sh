@@ -73,7 +73,8 @@ node -e '
   const buf = fs.readFileSync("tvl-lsp.vsix");
   const need = ["extension/package.json", "extension/out/extension.js", "extension/syntaxes/tvl.tmLanguage.json",
     "extension/syntaxes/roslaunch.tmLanguage.json", "extension/syntaxes/launch-substitution.injection.tmLanguage.json",
-    "extension/language-configuration.json", "extension/launch-language-configuration.json"];
+    "extension/language-configuration.json", "extension/launch-language-configuration.json",
+    "extension/out/configurator/app.js", "extension/out/configurator/elk-worker.js"];
   const missing = need.filter((n) => buf.indexOf(Buffer.from(n)) < 0);
   if (missing.length) { console.error("the .vsix lacks " + missing.join(", ")); process.exit(1); }
   console.log("tvl-lsp.vsix: " + buf.length + " bytes, contains the grammars and the bundled client");

@@ -235,3 +235,63 @@ def test_problems_follow_the_decisions(page, tmp_path):
     finally:
         proc.terminate()
         proc.wait(timeout=20)
+
+
+# What the VS Code extension does for its webview (editors/vscode/src/configurator.ts), emulated
+# in the page: requests posted by the UI are answered through the HTTP API here (in VS Code, by
+# the language server's tvl-lsp.configurator command, tested in test_server_configurator.py).
+FAKE_VSCODE = """
+(() => {
+  const token = new URLSearchParams(location.search).get('token');
+  window.__posted = [];
+  window.acquireVsCodeApi = () => ({
+    postMessage: async (m) => {
+      window.__posted.push(m);
+      if (m.type !== 'request') return;
+      const r = await fetch('api/' + m.op, {method: 'POST', headers: {'Content-Type': 'application/json',
+        'X-TVL-Token': token}, body: JSON.stringify(m.params || {})});
+      const body = await r.json();
+      window.postMessage(r.ok ? {type: 'response', id: m.id, result: body}
+                              : {type: 'response', id: m.id, error: body.error}, '*');
+    },
+  });
+  document.addEventListener('DOMContentLoaded', () => {
+    const meta = document.createElement('meta');
+    meta.name = 'tvl-elk-worker';
+    meta.content = 'static/elk-worker.js?token=' + token;
+    document.head.append(meta);
+  });
+})();
+"""
+
+
+def test_webview_transport(browser, ui):
+    """The page in a VS Code webview: requests and answers as messages, reveal asked of the host,
+    the layout worker started from a blob, a refresh from the host re-reads the state."""
+    ctx = browser.new_context(viewport={"width": 1200, "height": 800}, bypass_csp=True)
+    try:
+        pg = ctx.new_page()
+        pg.add_init_script(FAKE_VSCODE)
+        open_ui(pg, ui)
+        assert remaining(pg) == "4"
+        click(pg, "Random", "include")
+        wait_counts(pg, "2")
+        pg.locator('g.element[data-id="node:/Random"]').click()
+        pg.locator('#details [data-field="location"] a').click()
+        posted = pg.evaluate("window.__posted")
+        assert [m["op"] for m in posted if m["type"] == "request"][:1] == ["model"]
+        reveal = [m for m in posted if m["type"] == "reveal"]
+        assert reveal and reveal[0]["location"]["line"] == 21 and reveal[0]["location"]["path"].endswith("generic.launch")
+        assert pg.locator(".modal").count() == 0          # VS Code reveals it: no excerpt in the page
+        # the palette changed the decisions: the host says refresh
+        url = ui.split("?")[0]
+        token = ui.split("token=")[1]
+        import json, urllib.request
+        req = urllib.request.Request(url + "api/decide", data=json.dumps({"feature": "Teleop", "value": False}).encode(),
+                                     headers={"Content-Type": "application/json", "X-TVL-Token": token})
+        urllib.request.urlopen(req).read()
+        pg.evaluate("window.postMessage({type: 'refresh', reload: false}, '*')")
+        pg.wait_for_selector("g.feature[data-feature='Teleop'][data-status='user-out']", timeout=15000)
+        wait_counts(pg, "1")
+    finally:
+        ctx.close()

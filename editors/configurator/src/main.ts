@@ -597,8 +597,8 @@ async function load(modelPath?: string | null, targets?: Targets | null): Promis
   }
 }
 
-t.onRefresh(() => {
-  if (!app) {
+t.onRefresh((reload) => {
+  if (!app || reload) {
     void load();
     return;
   }

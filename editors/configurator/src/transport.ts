@@ -9,7 +9,7 @@ export interface Transport {
   /** Show a location in the editor; false when the host cannot (the UI shows an excerpt). */
   reveal(loc: Location): boolean;
   /** Called by the host when something changed outside the UI (palette commands, edits). */
-  onRefresh(fn: (model?: string) => void): void;
+  onRefresh(fn: (reload: boolean) => void): void;
   /** A Web Worker running ELK (elk-worker.js, shipped beside app.js). */
   layoutWorker(): Promise<Worker>;
 }
@@ -73,11 +73,11 @@ class VsCodeTransport implements Transport {
   readonly kind = 'vscode' as const;
   private next = 1;
   private pending = new Map<number, { resolve: (v: unknown) => void; reject: (e: Error) => void }>();
-  private refreshers: ((model?: string) => void)[] = [];
+  private refreshers: ((reload: boolean) => void)[] = [];
 
   constructor(private api: VsCodeApi) {
     window.addEventListener('message', (ev: MessageEvent) => {
-      const m = ev.data as { type?: string; id?: number; result?: unknown; error?: string; model?: string };
+      const m = ev.data as { type?: string; id?: number; result?: unknown; error?: string; reload?: boolean };
       if (m?.type === 'response' && typeof m.id === 'number') {
         const p = this.pending.get(m.id);
         if (p) {
@@ -89,7 +89,7 @@ class VsCodeTransport implements Transport {
           }
         }
       } else if (m?.type === 'refresh') {
-        this.refreshers.forEach((fn) => fn(m.model));
+        this.refreshers.forEach((fn) => fn(Boolean(m.reload)));
       }
     });
   }
@@ -107,7 +107,7 @@ class VsCodeTransport implements Transport {
     return true;
   }
 
-  onRefresh(fn: (model?: string) => void): void {
+  onRefresh(fn: (reload: boolean) => void): void {
     this.refreshers.push(fn);
   }
 

@@ -17,6 +17,8 @@ import {
   State,
 } from 'vscode-languageclient/node';
 
+import { ConfiguratorPanel } from './configurator';
+
 const SECTION = 'tvl-lsp';
 let client: LanguageClient | undefined;
 let output: vscode.OutputChannel;
@@ -37,6 +39,7 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
   context.subscriptions.push(
     vscode.commands.registerCommand('tvl.restartServer', () => restart(context)),
     vscode.commands.registerCommand('tvl.showOutput', () => output.show()),
+    vscode.commands.registerCommand('tvl.openConfigurator', () => openConfigurator(context)),
     vscode.commands.registerCommand('tvl.include', () => decide('tvl-lsp.include')),
     vscode.commands.registerCommand('tvl.exclude', () => decide('tvl-lsp.exclude')),
     vscode.commands.registerCommand('tvl.reset', () => reset()),
@@ -288,12 +291,24 @@ async function decide(command: 'tvl-lsp.include' | 'tvl-lsp.exclude'): Promise<v
   }
   const r = await exec<Propagation>(command, [uri, feature]);
   showRemaining(r, `${command === 'tvl-lsp.include' ? 'Included' : 'Excluded'} ${feature}`);
+  ConfiguratorPanel.refresh();
+}
+
+/** "TVL: Open configurator": the feature diagram, computation graph and problems of the active
+ * model (or of the model paired with the active launch file) in a webview. */
+function openConfigurator(context: vscode.ExtensionContext): void {
+  const uri = activeUri();
+  if (!uri || !running()) {
+    return;
+  }
+  ConfiguratorPanel.show(context, () => (client && client.state === State.Running ? client : undefined), vscode.Uri.parse(uri));
 }
 
 async function reset(): Promise<void> {
   const uri = activeUri();
   if (uri) {
     showRemaining(await exec<Propagation>('tvl-lsp.reset', [uri]), 'Configuration reset');
+    ConfiguratorPanel.refresh();
   }
 }
 
