@@ -99,9 +99,9 @@ def test_unknown_feature_and_bad_values(turtle):
 
 
 def test_graph_projection(turtle):
-    ids = {e["id"] for e in turtle.model_json()["graph"]["elements"]}
+    ids = {e["id"] for e in turtle.graph_json({})["elements"]}
     assert {"node:/Turtlesim", "node:/Random", "node:/Teleop", "node:/Multiplexer", "param:/vel"} <= ids
-    g = {e["id"]: e for e in turtle.model_json()["graph"]["elements"]}
+    g = {e["id"]: e for e in turtle.graph_json({})["elements"]}
     assert g["node:/Turtlesim"]["condition"] is None          # in every product: solid from the start
     assert g["node:/Random"]["condition"] == "Random"
     assert g["node:/Random"]["location"]["line"] == 21

@@ -44,7 +44,8 @@ async def test_configurator_view_requests(client: LanguageClient):
     await run("tvl-lsp.reset")
     m = await view("model")
     assert m["tree"]["id"] == "Turtlerand" and m["launch"] == str(launch)
-    assert any(e["id"] == "node:/Random" for e in m["graph"]["elements"])
+    g = await view("graph")
+    assert any(e["id"] == "node:/Random" for e in g["elements"]) and g["status"]["node:/Random"] == "possible"
     assert (await view("counts"))["remaining"] == "4"
     r = await view("decide", {"feature": "Random", "value": True})
     assert r["ok"] and r["state"]["decisions"] == {"Random": True}

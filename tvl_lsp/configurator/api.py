@@ -7,10 +7,12 @@ decisions (a ``{feature: bool}`` dict) and passes them in; every answer is plain
 =========  =================================  ==============================================
 op         params                             result
 =========  =================================  ==============================================
-model      -                                  the tree, the all-products graph, and ``state``
+model      -                                  the feature tree and ``state``
+graph      -                                  the all-products graph ``{elements, edges,
+                                              status}`` (built on first use)
 state      -                                  ``{decisions, implied, open, complete,
-                                              graph: {id: status}, problems: {id: status} |
-                                              null (not checked yet)}``
+                                              graph: {id: status} | null (not built yet),
+                                              problems: {id: status} | null (not checked yet)}``
 problems   -                                  ``{problems: [...], status: {id: status}}``
                                               (checks the files on first use)
 decide     ``feature``, ``value`` (true:      ``{ok, state}`` or ``{ok: false, refused:
@@ -34,7 +36,7 @@ from typing import Any, Mapping, Optional
 
 from .session import Session, SessionError
 
-OPS = ("model", "state", "decide", "reset", "counts", "problems", "generate", "excerpt")
+OPS = ("model", "state", "decide", "reset", "counts", "graph", "problems", "generate", "excerpt")
 MAX_LIMIT = 1000
 
 
@@ -55,6 +57,8 @@ def handle(session: Session, op: str, params: Optional[Mapping[str, Any]],
         return out, decisions
     if op == "state":
         return session.state(decisions), decisions
+    if op == "graph":
+        return session.graph_json(decisions), decisions
     if op == "problems":
         session.problems()
         return session.problems_json(decisions), decisions

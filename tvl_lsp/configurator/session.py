@@ -63,7 +63,6 @@ class Session:
     def __init__(self, model_path: str, roots: Optional[Iterable[str]] = None,
                  read_file: Optional[ReadFile] = None, launches: Optional[list[str]] = None,
                  project_files: Optional[list[str]] = None):
-        from ..analysis.solve import PairLogic
         from ..analysis.engine import ModelAnalysis
         from ..tvl import parse_model
         self.model_path = norm(model_path)
@@ -98,19 +97,18 @@ class Session:
         self._lock = threading.RLock()
         self._count_lock = threading.Lock()
         self._problem_lock = threading.Lock()
-        self._launch_analysis = None
+        self._launch_done = False
+        self._launch_analysis_ = None
         self._free: list[str] = []
-        if self.launch:
-            self._launch_analysis = self._analyse_launch(self.launch)
         self.known_extra = set(norm(p) for p in project_files or [])
-        self.logic = PairLogic(self.analysis.encoding, self._free)
+        self._logic = None
         self.project_files = [norm(p) for p in project_files] if project_files else None
-        self.graph = (graphmod.build(self._launch_analysis, self.model_path, self.workspace, self.read_file,
-                                     self.project_files)
-                      if self._launch_analysis is not None else graphmod.Graph())
+        self._graph = None
+        self._graph_lock = threading.Lock()
         self._problems: Optional[list] = None
         self._states: OrderedDict = OrderedDict()
         self._problem_states: OrderedDict = OrderedDict()
+        self._graph_states: OrderedDict = OrderedDict()
         self._total: Optional[int] = None
 
     # ------------------------------------------------------------------ opening
@@ -131,6 +129,44 @@ class Session:
                 raise SessionError(f"{os.path.basename(path)} is not paired with a feature model")
             return cls(models[0], roots, read_file, launches=[path], project_files=project_files)
         raise SessionError(f"{path} is neither a TVL model nor a launch file")
+
+    # the launch analysis, the logic over model + free args and the graph are built on first use:
+    # the feature diagram does not wait for them
+    @property
+    def _launch_analysis(self):
+        with self._lock:
+            if not self._launch_done:
+                self._launch_analysis_ = self._analyse_launch(self.launch) if self.launch else None
+                self._launch_done = True
+            return self._launch_analysis_
+
+    @property
+    def logic(self):
+        la = self._launch_analysis  # the free args
+        with self._lock:
+            if self._logic is None:
+                from ..analysis.solve import PairLogic
+                self._logic = PairLogic(self.analysis.encoding, self._free)
+            return self._logic
+
+    @property
+    def graph(self):
+        with self._graph_lock:
+            if self._graph is None:
+                la = self._launch_analysis
+                self._graph = (graphmod.build(la, self.model_path, self.workspace, self.read_file, self.project_files)
+                               if la is not None else graphmod.Graph())
+            return self._graph
+
+    @property
+    def graph_ready(self) -> bool:
+        return self._graph is not None
+
+    def graph_json(self, decisions: Mapping[str, bool]) -> dict:
+        """The all-products graph (laid out once by the UI) and its status under ``decisions``."""
+        out = self.graph.to_json(model_valid=lambda c: self.logic.valid(c))
+        out["status"] = self.state(decisions)["graph"]
+        return out
 
     def _analyse_launch(self, path: str):
         from ..project.check import free_top_args
@@ -198,7 +234,6 @@ class Session:
             "launches": self.launches,
             "features": len(self.names),
             "tree": self.tree(),
-            "graph": self.graph.to_json(model_valid=lambda c: self.logic.valid(c)),
         }
 
     def problems_json(self, decisions: Mapping[str, bool]) -> dict:
@@ -224,6 +259,11 @@ class Session:
             return hit
 
     # ------------------------------------------------------------------ problems
+    def set_problems(self, diags: list) -> None:
+        """Problems checked elsewhere (a host may run :func:`check_files` in a worker process)."""
+        with self._problem_lock:
+            self._problems = [problemsmod.problem_of(i, d) for i, d in enumerate(diags)]
+
     def problems(self) -> list:
         with self._problem_lock:
             if self._problems is None:
@@ -287,8 +327,23 @@ class Session:
         and (once checked) every problem under them (no counts: see :meth:`counts`)."""
         decisions = self.check_decisions(decisions)
         out = dict(self._core_state(decisions))
+        out["graph"] = self.graph_status(decisions)
         out["problems"] = self.problem_status(decisions)
         return out
+
+    def graph_status(self, decisions: dict[str, bool]) -> Optional[dict[str, str]]:
+        """{element id: certain | possible | absent}; None while the graph is not built."""
+        if self._graph is None:
+            return None
+        key = _key(decisions)
+        with self._lock:
+            hit = self._graph_states.get(key)
+            if hit is None:
+                hit = self._graph.statuses(decisions, self.logic)
+                self._graph_states[key] = hit
+                while len(self._graph_states) > 64:
+                    self._graph_states.popitem(last=False)
+            return hit
 
     def _core_state(self, decisions: dict[str, bool]) -> dict:
         key = _key(decisions)
@@ -300,10 +355,8 @@ class Session:
             p = self.analysis.propagate(decisions, count=False)
             if not p.ok:
                 raise SessionError("the decisions conflict: " + ", ".join(p.conflict or []))
-            decided = graphmod.decisions_formula(decisions)
-            graph = self.graph.statuses(decisions, self.logic)
             out = {"decisions": dict(decisions), "implied": dict(p.forced), "open": list(p.open),
-                   "complete": not p.open, "graph": graph}
+                   "complete": not p.open}
             self._states[key] = out
             while len(self._states) > 64:
                 self._states.popitem(last=False)
@@ -422,6 +475,18 @@ class Session:
             except ValueError:
                 continue
         return path
+
+
+def check_files(paths: list[str], roots: list[str]) -> list:
+    """The diagnostics of the given model / launch files (for :meth:`Session.set_problems`)."""
+    from ..project.check import _internal, check_document
+    out = []
+    for p in paths:
+        try:
+            out += check_document(p, roots=roots)
+        except Exception as exc:
+            out.append(_internal(p, f"check failed: {exc!r}"))
+    return out
 
 
 def configurable_models(roots: Iterable[str], read_file: Optional[ReadFile] = None) -> list[dict]:

@@ -65,6 +65,8 @@ class App:
             self.sessions[s.model_path] = s
             self.initial = s.model_path
         self._targets: Optional[list[dict]] = None
+        self.pool = None
+        self.checks: dict = {}
 
     def targets(self) -> dict:
         if self._targets is None:
@@ -76,13 +78,38 @@ class App:
         return {"roots": self.roots, "models": self._targets, "initial": initial}
 
     def warm_up(self) -> None:
-        """Open the first session and check its files ahead of the first page load."""
+        """Open the first session ahead of the first page load, check its files in a worker
+        process (the checks would hold the interpreter while the user clicks), build its graph."""
         def run():
             try:
-                self.session(None).problems()
+                s = self.session(None)
+                self.check_in_background(s)
+                s.graph  # noqa: B018 (built on first use)
             except Exception:
                 pass  # the page will say what is wrong
         threading.Thread(target=run, name="tvl-ui-warm-up", daemon=True).start()
+
+    def check_in_background(self, s: Session):
+        from concurrent.futures import ProcessPoolExecutor
+        import multiprocessing as mp
+        from ..configurator.session import check_files
+        with self.lock:
+            fut = self.checks.get(s.model_path)
+            if fut is None:
+                if self.pool is None:
+                    self.pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"))
+                fut = self.pool.submit(check_files, [s.model_path] + s.launches, s.roots)
+                self.checks[s.model_path] = fut
+        return fut
+
+    def close(self) -> None:
+        pool, self.pool = self.pool, None
+        if pool is not None:
+            procs = list((getattr(pool, "_processes", None) or {}).values())
+            pool.shutdown(wait=False, cancel_futures=True)
+            for p in procs:
+                if p.is_alive():
+                    p.kill()
 
     def session(self, model: Optional[str]) -> Session:
         if not isinstance(model, str) or not model:
@@ -111,6 +138,12 @@ class App:
 
         def cancelled() -> bool:
             return self.versions.get(key, 0) != version
+
+        if op == "problems" and s._problems is None:
+            try:
+                s.set_problems(self.check_in_background(s).result(timeout=300))
+            except Exception:
+                pass  # checked in this process instead
 
         out, new = api.handle(s, op, body, decisions, cancel=cancelled, generate_folder=self.folder,
                               generate_limit=self.limit)
@@ -265,6 +298,12 @@ class Handler(BaseHTTPRequestHandler):
 class UiServer(ThreadingHTTPServer):
     daemon_threads = True
     allow_reuse_address = True
+
+    def server_close(self) -> None:
+        super().server_close()
+        app = getattr(self.RequestHandlerClass, "app", None)
+        if app is not None:
+            app.close()
 
 
 def make_server(path: str, port: int = 0, folder: Optional[str] = None, token: Optional[str] = None,

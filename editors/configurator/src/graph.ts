@@ -7,7 +7,7 @@ import ELK from 'elkjs/lib/elk-api.js';
 import type { ElkExtendedEdge, ElkNode } from 'elkjs/lib/elk-api';
 import { select, Selection } from 'd3-selection';
 import { zoom as d3zoom, zoomIdentity, ZoomBehavior, ZoomTransform } from 'd3-zoom';
-import type { GraphEdge, GraphElement, GraphJson, State, Status } from './types';
+import type { GraphEdge, GraphElement, GraphJson, Status } from './types';
 
 const SVGNS = 'http://www.w3.org/2000/svg';
 
@@ -33,7 +33,7 @@ export class GraphView {
   private zoom: ZoomBehavior<SVGSVGElement, unknown>;
   private placed = new Map<string, Placed>();
   private ready: Promise<void>;
-  private state: State | null = null;
+  private statuses: Record<string, Status> = {};
   private selected: string | null = null;
   showRemoved = false;
 
@@ -174,8 +174,8 @@ export class GraphView {
       zoomIdentity.translate((box.width - k * width) / 2, (box.height - k * height) / 2).scale(k));
   }
 
-  async setState(state: State): Promise<void> {
-    this.state = state;
+  async setStatus(status: Record<string, Status>): Promise<void> {
+    this.statuses = status;
     await this.ready;
     this.restyle();
   }
@@ -185,7 +185,7 @@ export class GraphView {
   }
 
   status(id: string): Status {
-    return this.state?.graph[id] ?? 'possible';
+    return this.statuses[id] ?? 'possible';
   }
 
   restyle(): void {

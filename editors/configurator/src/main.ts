@@ -6,7 +6,7 @@ import { basename, el, formatCount } from './format';
 import { GraphView } from './graph';
 import { makeTransport, Transport } from './transport';
 import type {
-  Counts, DecideResult, Excerpt, FeatureNode, GenerateResult, GraphEdge, GraphElement, Location, ModelJson,
+  Counts, DecideResult, Excerpt, FeatureNode, GenerateResult, GraphEdge, GraphElement, GraphJson, Location, ModelJson,
   Problem, ProblemsJson, Refusal, State, Status, Targets,
 } from './types';
 
@@ -17,7 +17,9 @@ interface App {
   state: State;
   counts: Counts | null;
   diagram: Diagram;
-  graph: GraphView;
+  graph: GraphView | null; // null: being built
+  graphJson: GraphJson | null;
+  graphStatus: Record<string, Status>;
   showRuledOut: boolean;
   problems: Problem[] | null; // null: being checked
   problemStatus: Record<string, Status>;
@@ -276,7 +278,7 @@ function statusWords(st: string): string {
 
 function showGraphItem(e: GraphElement | GraphEdge, kind: 'element' | 'edge'): void {
   const d = details();
-  const st = app?.state.graph[e.id] ?? 'possible';
+  const st = app?.graphStatus[e.id] ?? 'possible';
   if (kind === 'edge') {
     const x = e as GraphEdge;
     d.replaceChildren(
@@ -316,12 +318,12 @@ function showGraphItem(e: GraphElement | GraphEdge, kind: 'element' | 'edge'): v
       rows.push(el('dt', {}, k[0].toUpperCase() + k.slice(1)), el('dd', {}, typeof v === 'string' ? v : JSON.stringify(v)));
     }
   }
-  const links = (app?.model.graph.edges ?? []).filter((l) => l.source === x.id || l.target === x.id);
+  const links = (app?.graphJson?.edges ?? []).filter((l) => l.source === x.id || l.target === x.id);
   if (links.length) {
     const ul = el('ul', { 'data-field': 'links' });
     for (const l of links) {
       const other = l.source === x.id ? l.target : l.source;
-      const lst = app?.state.graph[l.id] ?? 'possible';
+      const lst = app?.graphStatus[l.id] ?? 'possible';
       ul.append(el('li', { class: `st-${lst}` }, `${l.kind} `, el('code', {}, other.replace(/^\w+:/, '')),
         l.condition ? el('span', { class: 'muted' }, ` when ${l.condition}`) : null));
     }
@@ -395,7 +397,10 @@ function applyState(state: State): void {
     app.problemStatus = state.problems;
   }
   app.diagram.setState(state);
-  void app.graph.setState(state);
+  if (state.graph) {
+    app.graphStatus = state.graph;
+    void app.graph?.setStatus(state.graph);
+  }
   renderProblems();
   const gen = document.querySelector('[data-mode="current"]') as HTMLButtonElement | null;
   if (gen) {
@@ -436,6 +441,30 @@ async function refreshCounts(): Promise<void> {
       rem.classList.remove('pending');
       toast(`Counting failed: ${(e as Error).message}`, 'error');
     }
+  }
+}
+
+async function loadGraph(a: App, box: HTMLElement): Promise<void> {
+  const wait = el('div', { class: 'empty' }, 'Building the computation graph of every product…');
+  box.append(wait);
+  try {
+    const g = await t.request<GraphJson>('graph', { model: a.model.model });
+    if (app !== a) {
+      return;
+    }
+    wait.remove();
+    a.graphJson = g;
+    a.graph = new GraphView(box, g, { select: (e, k) => showGraphItem(e, k) }, () => t.layoutWorker());
+    // the decisions may have changed meanwhile: the latest state has the statuses
+    const st = a.state.graph ? a.state : await t.request<State>('state', { model: a.model.model });
+    if (app !== a) {
+      return;
+    }
+    a.graphStatus = st.graph ?? g.status ?? {};
+    await a.graph.setStatus(a.graphStatus);
+    document.body.dataset.graph = 'ready';
+  } catch (e) {
+    wait.textContent = `No computation graph: ${(e as Error).message}`;
   }
 }
 
@@ -539,7 +568,7 @@ function graphLegend(): HTMLElement {
   const item = (cls: string, label: string) => el('span', { class: `legend-item g-${cls}` }, el('i', {}), label);
   const cb = el('input', { type: 'checkbox', id: 'show-removed' }) as HTMLInputElement;
   cb.addEventListener('change', () => {
-    if (app) {
+    if (app?.graph) {
       app.graph.showRemoved = cb.checked;
       app.graph.restyle();
     }
@@ -574,21 +603,18 @@ async function load(modelPath?: string | null, targets?: Targets | null): Promis
       el('div', { id: 'toasts', 'aria-live': 'polite' }));
     // app must exist before the views call back into it
     const a: App = {
-      model: m, state: m.state, counts: null, diagram: null as unknown as Diagram, graph: null as unknown as GraphView,
-      showRuledOut: false, problems: null, problemStatus: {},
+      model: m, state: m.state, counts: null, diagram: null as unknown as Diagram, graph: null, graphJson: null,
+      graphStatus: {}, showRuledOut: false, problems: null, problemStatus: {},
     };
     app = a;
     a.diagram = new Diagram(diagramBox, m.tree, {
       decide: (f, v) => void decide(f, v),
       select: (f) => showFeature(f),
     });
-    a.graph = new GraphView(graphBox, m.graph, { select: (e, k) => showGraphItem(e, k) }, () => t.layoutWorker());
     applyState(m.state);
     document.body.dataset.ready = 'diagram';
-    void a.graph.whenReady().then(() => {
-      document.body.dataset.graph = 'ready';
-    });
     void refreshCounts();
+    void loadGraph(a, graphBox);
     void loadProblems(a);
   } catch (e) {
     root.classList.remove('loading');

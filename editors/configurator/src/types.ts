@@ -50,6 +50,8 @@ export interface GraphJson {
   elements: GraphElement[];
   edges: GraphEdge[];
   source: string;
+  status?: Record<string, Status>;
+  notes?: string[];
 }
 
 export interface Related {
@@ -76,7 +78,7 @@ export interface State {
   open: string[];
   complete: boolean;
   problems: Record<string, Status> | null; // null: the files are not checked yet
-  graph: Record<string, Status>;
+  graph: Record<string, Status> | null; // null: the graph is not built yet
 }
 
 export interface ProblemsJson {
@@ -92,7 +94,6 @@ export interface ModelJson {
   launches: string[];
   features: number;
   tree: FeatureNode;
-  graph: GraphJson;
   state: State;
 }
 

@@ -4,7 +4,7 @@ client that draws it), answered by the same pure API as ``tvl-lsp ui``
 
     workspace/executeCommand tvl-lsp.configurator [uri, op, params?]
 
-``uri``: a model, or a launch file paired with one; ``op``: model | state | decide | reset |
+``uri``: a model, or a launch file paired with one; ``op``: model | state | decide | reset | graph |
 counts | problems | generate | excerpt (see :mod:`tvl_lsp.configurator.api`).  The decisions are
 the server's (``tvl-lsp.include`` / ``exclude`` / ``reset`` share them); ``generate`` writes the
 files through ``workspace/applyEdit`` when the client can create files, else itself, in the
@@ -21,7 +21,7 @@ from pygls.exceptions import JsonRpcInvalidParams
 from .commands import _in_worker, _path, _refresh_lens, can_create, creation_edit, model_of
 
 CONFIGURATOR = "tvl-lsp.configurator"
-_OPS = ("model", "state", "decide", "reset", "counts", "problems", "generate", "excerpt")
+_OPS = ("model", "state", "decide", "reset", "counts", "graph", "problems", "generate", "excerpt")
 
 
 def register(ls) -> None:
