@@ -301,6 +301,8 @@ class Session:
         new[name] = bool(value)
         with self._lock:
             p = self.analysis.propagate(new, count=False)
+            if p.ok:
+                self._remember_state(new, p)
         if p.ok:
             return new, None
         return decisions, self._refusal(name, bool(value), p.conflict or [name], new)
@@ -345,6 +347,14 @@ class Session:
                     self._graph_states.popitem(last=False)
             return hit
 
+    def _remember_state(self, decisions: dict[str, bool], p) -> dict:
+        out = {"decisions": dict(decisions), "implied": dict(p.forced), "open": list(p.open),
+               "complete": not p.open}
+        self._states[_key(decisions)] = out
+        while len(self._states) > 64:
+            self._states.popitem(last=False)
+        return out
+
     def _core_state(self, decisions: dict[str, bool]) -> dict:
         key = _key(decisions)
         with self._lock:
@@ -355,12 +365,7 @@ class Session:
             p = self.analysis.propagate(decisions, count=False)
             if not p.ok:
                 raise SessionError("the decisions conflict: " + ", ".join(p.conflict or []))
-            out = {"decisions": dict(decisions), "implied": dict(p.forced), "open": list(p.open),
-                   "complete": not p.open}
-            self._states[key] = out
-            while len(self._states) > 64:
-                self._states.popitem(last=False)
-            return out
+            return self._remember_state(decisions, p)
 
     # ------------------------------------------------------------------ counts
     def total(self, timeout: Optional[float] = None) -> Optional[int]:
