@@ -21,11 +21,14 @@ interface App {
   graphJson: GraphJson | null;
   graphStatus: Record<string, Status>;
   showRuledOut: boolean;
+  showAllProblems: boolean;
   problems: Problem[] | null; // null: being checked
   problemStatus: Record<string, Status>;
 }
 
 let app: App | null = null;
+let problemsKey = '';
+const PROBLEMS_SHOWN = 200;
 let countSeq = 0;
 let busy = 0;
 
@@ -334,12 +337,18 @@ function showGraphItem(e: GraphElement | GraphEdge, kind: 'element' | 'edge'): v
 
 // ------------------------------------------------------------------ problems
 
-function renderProblems(): void {
+function renderProblems(force = true): void {
   const a = app;
   const box = document.getElementById('problems') as HTMLElement;
   if (!a) {
     return;
   }
+  // a click that changes no problem's status does not redraw the list (hundreds on big models)
+  const key = JSON.stringify([a.problems?.length ?? -1, a.problemStatus, a.showRuledOut, a.showAllProblems]);
+  if (!force && key === problemsKey) {
+    return;
+  }
+  problemsKey = key;
   if (a.problems === null) {
     box.replaceChildren(el('div', { class: 'panel-head' }, el('strong', {}, 'Problems'),
       el('span', { class: 'muted', id: 'problem-count', 'data-checking': 'true' }, ' checking the model and its launch files…')));
@@ -364,9 +373,16 @@ function renderProblems(): void {
     );
     list.append(li);
   };
-  shown.forEach((p) => item(p, false));
-  if (a.showRuledOut) {
-    ruledOut.forEach((p) => item(p, true));
+  const listed = [...shown.map((p) => [p, false] as const), ...(a.showRuledOut ? ruledOut.map((p) => [p, true] as const) : [])];
+  const limit = a.showAllProblems ? listed.length : PROBLEMS_SHOWN;
+  listed.slice(0, limit).forEach(([p, out]) => item(p, out));
+  if (listed.length > limit) {
+    const more = el('button', { class: 'more-problems' }, `show all ${listed.length}`);
+    more.addEventListener('click', () => {
+      a.showAllProblems = true;
+      renderProblems();
+    });
+    list.append(el('li', { class: 'problem' }, more));
   }
   const toggle = el('label', { class: 'toggle' });
   const cb = el('input', { type: 'checkbox', id: 'show-ruled-out' }) as HTMLInputElement;
@@ -397,11 +413,11 @@ function applyState(state: State): void {
     app.problemStatus = state.problems;
   }
   app.diagram.setState(state);
+  renderProblems(false);
   if (state.graph) {
     app.graphStatus = state.graph;
     void app.graph?.setStatus(state.graph);
   }
-  renderProblems();
   const gen = document.querySelector('[data-mode="current"]') as HTMLButtonElement | null;
   if (gen) {
     gen.disabled = !state.complete;
@@ -604,7 +620,7 @@ async function load(modelPath?: string | null, targets?: Targets | null): Promis
     // app must exist before the views call back into it
     const a: App = {
       model: m, state: m.state, counts: null, diagram: null as unknown as Diagram, graph: null, graphJson: null,
-      graphStatus: {}, showRuledOut: false, problems: null, problemStatus: {},
+      graphStatus: {}, showRuledOut: false, showAllProblems: false, problems: null, problemStatus: {},
     };
     app = a;
     a.diagram = new Diagram(diagramBox, m.tree, {
