@@ -10,6 +10,7 @@ the browser unless ``--no-browser``.  Ctrl-C or SIGTERM stops it.
 from __future__ import annotations
 
 import argparse
+import os
 import signal
 import sys
 
@@ -68,6 +69,10 @@ def main(argv: list[str]) -> int:
     except (KeyboardInterrupt, _Stop):
         pass
     finally:
-        httpd.server_close()
+        httpd.server_close()  # stops the checking worker process too
     print("tvl-lsp ui: stopped", file=sys.stderr)
-    return 0
+    sys.stdout.flush()
+    sys.stderr.flush()
+    # nothing is left to save; do not wait for a background session build or a graph layout
+    # still running in a thread
+    os._exit(0)

@@ -66,6 +66,8 @@ class App:
             self.initial = s.model_path
         self._targets: Optional[list[dict]] = None
         self.pool = None
+        self.pool_lock = threading.Lock()  # not self.lock: that one is held while a session opens
+        self.closed = False
         self.checks: dict = {}
 
     def targets(self) -> dict:
@@ -93,7 +95,9 @@ class App:
         from concurrent.futures import ProcessPoolExecutor
         import multiprocessing as mp
         from ..configurator.session import check_files
-        with self.lock:
+        with self.pool_lock:
+            if self.closed:
+                raise RuntimeError("the server is stopping")
             fut = self.checks.get(s.model_path)
             if fut is None:
                 if self.pool is None:
@@ -103,7 +107,9 @@ class App:
         return fut
 
     def close(self) -> None:
-        pool, self.pool = self.pool, None
+        with self.pool_lock:
+            self.closed = True
+            pool, self.pool = self.pool, None
         if pool is not None:
             procs = list((getattr(pool, "_processes", None) or {}).values())
             pool.shutdown(wait=False, cancel_futures=True)
