@@ -24,7 +24,7 @@ ARTIFACTS = Path(os.environ.get("TVL_UI_ARTIFACTS", REPO / ".artifacts" / "ui"))
 if not os.path.exists(CHROMIUM) or not shutil.which(CHROMIUM):
     if os.environ.get("CI"):
         raise RuntimeError(f"CI needs Chromium at {CHROMIUM} (apt-get install chromium)")
-    pytest.skip(f"no Chromium at {CHROMIUM}", allow_module_level=True)
+    pytest.skip(f"no Chromium at {CHROMIUM} (apt-get install chromium)", allow_module_level=True)
 sync_api = pytest.importorskip("playwright.sync_api")
 
 
