@@ -10,7 +10,7 @@ import pyganak
 import pytest
 
 from testenv import DATA, OVERLAY_WS
-from tvl_lsp.analysis import count as C
+from tvl_lsp.analysis.counting import projected as C
 from tvl_lsp.analysis.dimacs import parse_dimacs
 from tvl_lsp.analysis.engine import ModelAnalysis
 from tvl_lsp.cli.commands import count as count_cmd

@@ -5,11 +5,13 @@ usage:
   tvl-lsp --check [PATH ...]        check models, launch files and HAROS project files
                                     (tvl-lsp --check --help for formats and options)
   tvl-lsp --explain [CODE]          what a diagnostic code means and how to fix it
-  tvl-lsp count MODEL [--include F]... [--exclude F]... [--json]
+  tvl-lsp count MODEL [--include F]... [--exclude F]... [--per-feature] [--json]
                                     exact number of products (MODEL: .tvl or .dimacs)
+  tvl-lsp sample MODEL (--t 2 | --uniform N) [--seed S] [--include F]... [--json]
+                                    products to test: a pairwise cover, or uniform at random
   tvl-lsp launch FILE [name:=value ...] [--json]
                                     what roslaunch would load from FILE under these args
-  tvl-lsp generate LAUNCH [--mode one|completions|all] ...
+  tvl-lsp generate LAUNCH [--mode one|completions|all|sample] ...
                                     configuration launch files for products of the model
   tvl-lsp graph LAUNCH [--include F]... [--exclude F]... [--format json|dot|mermaid]
                                     the computation graph of every product at once (docs/graph.md)
@@ -28,6 +30,7 @@ import sys
 
 SUBCOMMANDS = {
     "count": "tvl_lsp.cli.commands.count",
+    "sample": "tvl_lsp.cli.commands.sample",
     "launch": "tvl_lsp.cli.commands.launch",
     "generate": "tvl_lsp.cli.commands.generate",
     "check": "tvl_lsp.cli.commands.check",

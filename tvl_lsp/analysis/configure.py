@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Mapping, Optional, Protocol, Sequence
 
-from .count import CountCancelled, CountTimeout
+from .counting.errors import CountCancelled, CountTimeout
 from .encode import Encoding
 from .solve import decide
 

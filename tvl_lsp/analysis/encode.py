@@ -12,8 +12,8 @@ the pieces):
 - a group ``[i..j]`` of feature P with mandatory children M and optional children O applies
   only when P is selected and accepts a selected set S iff ``|S| <= j`` and
   ``|S & M| + |O| >= i`` (optional children always win over the cardinality).  The upper bound
-  is one ``group`` element (a sequential-counter / totalizer encoding from ``pysat.card``, never
-  a pairwise blow-up for big groups); the lower bound is one ``mandatory`` element per child
+  is one ``group`` element (a sequential counter whose counter variables are defined by Tseitin
+  clauses, never a pairwise blow-up for big groups); the lower bound is one ``mandatory`` element per child
   when every mandatory child is needed (``allOf``), else a ``group-lower`` element;
 - constraints are global (even inside an optional feature); ``ifIn: e`` is ``F -> e`` and
   ``ifOut: e`` is ``!F -> e``;
@@ -25,7 +25,10 @@ the pieces):
   ``Encoding.not_encoded`` (reported once per constraint as ``constraint-not-encoded``).
 
 Tseitin definitions (``x <-> a && b``) are *hard* clauses: they define auxiliary variables
-functionally, so they never conflict and never change a projected count.  The clauses that
+functionally, so they never conflict and never change a projected count.  The cardinality
+counters are built from them too, so every auxiliary variable except attribute values is a
+function of the features: counting all variables (d4) counts the products.  Attribute values
+may be left free by the model; :meth:`Encoding.aux_determined` checks whether they are.  The clauses that
 assert something about the model belong to an element and are guarded by the element's
 selector literal in the explanation solver.
 """
@@ -35,8 +38,6 @@ from __future__ import annotations
 import hashlib
 from dataclasses import dataclass, field
 from typing import Iterable, Optional, Union
-
-from pysat.card import CardEnc, EncType
 
 from ..base.diagnostics import Diagnostic, Related, Severity, register
 from ..base.text import LineIndex, Span, ZERO_SPAN
@@ -156,7 +157,9 @@ class _Builder:
         self.hard.extend(self.at_most(lits, 1))
 
     def at_most(self, lits: list[int], k: int) -> list[list[int]]:
-        """Clauses for sum(lits) <= k (aux variables allocated from self.top)."""
+        """Clauses for sum(lits) <= k.  The auxiliary variables are *defined* (hard Tseitin
+        clauses, see :meth:`_counter`), so they are functions of ``lits``: a count of all
+        variables equals the count projected on ``lits`` (what d4 counts)."""
         n = len(lits)
         if k >= n:
             return []
@@ -164,9 +167,13 @@ class _Builder:
             return [[-x] for x in lits]
         if k == 1 and n <= 5:
             return [[-lits[i], -lits[j]] for i in range(n) for j in range(i + 1, n)]
-        enc = CardEnc.atmost(lits=list(lits), bound=k, top_id=self.top, encoding=EncType.seqcounter)
-        self.top = max(self.top, enc.nv)
-        return [list(c) for c in enc.clauses]
+        out: list[list[int]] = []
+        # sequential counter: x_i may not be selected once k of x_1..x_{i-1} are
+        for i, r in enumerate(self._counter(lits[:-1], k)):
+            c = _clean([-lits[i + 1], self.not_(r[k])])
+            if c is not None:
+                out.append(c)
+        return out
 
     def at_least(self, lits: list[int], k: int) -> list[list[int]]:
         n = len(lits)
@@ -178,9 +185,24 @@ class _Builder:
             return [list(lits)]
         if k == n:
             return [[x] for x in lits]
-        enc = CardEnc.atleast(lits=list(lits), bound=k, top_id=self.top, encoding=EncType.seqcounter)
-        self.top = max(self.top, enc.nv)
-        return [list(c) for c in enc.clauses]
+        last = None
+        for last in self._counter(lits, k):
+            pass
+        c = _clean([last[k]])
+        return [] if c is None else [c]
+
+    def _counter(self, lits: list[int], k: int):
+        """For each prefix x_1..x_i of ``lits`` (i = 1..n), the list r with r[j] the literal
+        (or constant) "at least j of x_1..x_i are true", j = 0..k, each defined by
+        r_i[j] <-> r_{i-1}[j] || (x_i && r_{i-1}[j-1]) (a sequential counter whose counter
+        variables are functions of the inputs)."""
+        prev: list[Lit] = [True] + [False] * k
+        for x in lits:
+            cur: list[Lit] = [True]
+            for j in range(1, k + 1):
+                cur.append(self.or_([prev[j], self.and_([x, prev[j - 1]])]))
+            prev = cur
+            yield cur
 
 
 def _clean(clause: Iterable[Lit]) -> Optional[list[int]]:
@@ -246,6 +268,7 @@ class Encoding:
             self._by_long.setdefault(f.long_name, f)
         self._clauses: Optional[list[list[int]]] = None
         self._key: Optional[str] = None
+        self._determined: Optional[bool] = None
         self._line_indexes: dict = {}
 
     # ------------------------------------------------------------------ names
@@ -294,6 +317,64 @@ class Encoding:
             self._key = h.hexdigest()
         return self._key
 
+    def attribute_vars(self) -> list[int]:
+        """The variables that hold attribute values (the only auxiliary variables that are not
+        defined by construction: Tseitin and counter variables are functions of them and of
+        the features)."""
+        out: set[int] = set()
+        for term in self._attr_terms.values():
+            if term[0] == "bool" and isinstance(term[1], int) and not isinstance(term[1], bool):
+                out.add(abs(term[1]))
+            elif term[0] == "map":
+                out.update(abs(x) for x in term[1].values() if isinstance(x, int) and not isinstance(x, bool))
+        return sorted(v for v in out if v > self.n_features)
+
+    def aux_determined(self, time_budget: Optional[float] = 5.0) -> bool:
+        """Are all auxiliary variables (those above the features) functions of the features?
+        Then every product has exactly one extension to a model of the CNF, and counting all
+        variables counts the products.  Padoa's test on the attribute variables (the rest are
+        defined by construction): the CNF twice, the features shared, some attribute variable
+        different -- unsatisfiable iff they are all determined.  False when the SAT call does
+        not finish within ``time_budget``."""
+        if self._determined is not None:
+            return self._determined
+        clauses = self.clauses()
+        used = {abs(x) for c in clauses for x in c}
+        attrs = [v for v in self.attribute_vars() if v in used]
+        if not attrs:
+            self._determined = True
+            return True
+        from pysat.solvers import Solver
+        n, top = self.n_features, self.nvars
+
+        def shift(x: int) -> int:
+            return x if abs(x) <= n else (x + top - n if x > 0 else x - top + n)
+
+        cnf = list(clauses) + [[shift(x) for x in c] for c in clauses]
+        d0 = 2 * top
+        diff = []
+        for i, v in enumerate(attrs):
+            d = d0 + i + 1
+            w = shift(v)
+            cnf.append([-d, v, w])
+            cnf.append([-d, -v, -w])
+            diff.append(d)
+        cnf.append(diff)
+        with Solver(name="minisat22", bootstrap_with=cnf, use_timer=False) as s:
+            if time_budget is None:
+                res = s.solve()
+            else:
+                import threading
+                timer = threading.Timer(time_budget, s.interrupt)
+                timer.start()
+                try:
+                    res = s.solve_limited(expect_interrupt=True)
+                finally:
+                    timer.cancel()
+        # unsatisfiable: no two models agree on the features and differ on an attribute
+        self._determined = res is False
+        return self._determined
+
     def formula_clauses(self, f: fm.Formula, top: Optional[int] = None) -> tuple[list[list[int]], int]:
         """Clauses asserting formula ``f`` (over feature names); returns (clauses, new top)."""
         hard: list[list[int]] = []
@@ -335,6 +416,7 @@ class Encoding:
     def _add(self, e: Element) -> Element:
         self.elements.append(e)
         self._clauses = None
+        self._determined = None
         return e
 
     def _encode_structure(self) -> None:

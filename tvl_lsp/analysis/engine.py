@@ -4,13 +4,17 @@
     a.is_void()
     a.anomalies(time_budget=10.0)            # -> list[Diagnostic]
     a.count(include=("Kobuki",), exclude=(), formula=None, timeout=None, cancel=None)  # -> int
+    a.count_result(...)                      # -> Count(value, engine, seconds)
     a.feature_counts()                       # -> {feature name: number of products with it}
+    a.feature_counts_result(include, exclude)  # -> FeatureCounts (one pass over the d-DNNF)
+    a.sample(t=2) / a.sample(uniform=10, seed=1)  # -> ([{name: bool}], engine)
     a.find_product(formula, include, exclude, smallest=True)  # -> {name: bool} | None
     a.propagate({"Kobuki": True, "Teleop": False})            # -> Propagation
     for product in a.enumerate(limit=100): ...                # -> {name: bool}
 
 Feature names are the short names when unique, else the long names ("Root.A.B"), as
-:meth:`Encoding.feature_by_name` resolves them.  Counts are Python ints.
+:meth:`Encoding.feature_by_name` resolves them.  Counts are Python ints, answered by the
+counting service (:mod:`.counting`: d4's d-DNNF, pyganak as the fallback).
 """
 
 from __future__ import annotations
@@ -26,7 +30,8 @@ from ..base.diagnostics import Diagnostic, Related, Severity, register
 from ..tvl import model as M
 from ..base import formula as fm
 from .configure import propagate as _propagate
-from .count import CACHE, CancelLike, CountTimeout, count_cnf, query_key
+from .counting.errors import CancelLike, CountTimeout, EngineFailed
+from .counting.service import CNFCounter, Count, FeatureCounts
 from .encode import Element, Encoding, encode
 from .solve import SOLVER, Analyzer, Explanation
 
@@ -59,6 +64,7 @@ class ModelAnalysis:
         self.model = model
         self._enc = encoding
         self._an: Optional[Analyzer] = None
+        self._counter: Optional[CNFCounter] = None
 
     @classmethod
     def from_dimacs(cls, text: str, path: str = "model.dimacs") -> "ModelAnalysis":
@@ -196,53 +202,159 @@ class ModelAnalysis:
         return out
 
     # ------------------------------------------------------------------ counting
+    @property
+    def counter(self) -> CNFCounter:
+        """The counting service for this model's CNF (compiled once, on first use)."""
+        with self._lock:
+            if self._counter is None:
+                enc = self.encoding
+                root = self.model.root.name if self.model.root is not None else "model"
+                self._counter = CNFCounter(enc.nvars, enc.clauses(), enc.n_features,
+                                           determined=enc.aux_determined(), label=root)
+            return self._counter
+
+    def count_result(self, include: Iterable[str] = (), exclude: Iterable[str] = (),
+                     formula: Optional[fm.Formula] = None, timeout: Optional[float] = None,
+                     cancel: CancelLike = None, progress=None) -> Count:
+        """The exact number of products with the included features, without the excluded
+        ones, satisfying ``formula`` (over feature names), and which engine answered.
+        Raises CountTimeout / CountCancelled."""
+        assumptions = self._lits(include, exclude)
+        svc = self.counter
+        if formula is None:
+            return svc.count(assumptions, timeout=timeout, cancel=cancel, progress=progress)
+        t0 = time.perf_counter()
+        cubes = self._cubes(formula)
+        if cubes is not None:
+            total = 0
+            engine = None
+            for cube in cubes:
+                left = None if timeout is None else max(0.05, timeout - (time.perf_counter() - t0))
+                c = svc.count(assumptions + cube, timeout=left, cancel=cancel, progress=progress)
+                total += c.value
+                engine = c.engine if engine in (None, c.engine, "trivial") else engine
+            return Count(total, engine or "trivial", time.perf_counter() - t0)
+        # too many cubes: count the CNF and the formula's clauses together
+        enc = self.encoding
+        extra, top = enc.formula_clauses(formula)
+        both = CNFCounter(top, enc.clauses() + extra, enc.n_features, determined=svc.determined,
+                          label=svc.label)
+        return both.count(assumptions, timeout=timeout, cancel=cancel, progress=progress)
+
     def count(self, include: Iterable[str] = (), exclude: Iterable[str] = (),
               formula: Optional[fm.Formula] = None, timeout: Optional[float] = None,
               cancel: CancelLike = None) -> int:
-        """Exact number of products (feature selections) with the included features, without
-        the excluded ones, and satisfying ``formula`` (over feature names).
-        Raises CountTimeout / CountCancelled."""
-        enc = self.encoding
-        assumptions = self._lits(include, exclude)
-        extra: list[list[int]] = []
-        top = enc.nvars
-        if formula is not None:
-            extra, top = enc.formula_clauses(formula)
-        key = query_key(enc.logical_key(), True, assumptions, extra)
-        got = CACHE.get(key)
-        if got is not None:
-            return got
-        clauses = enc.clauses() + [[x] for x in assumptions] + extra
-        projection = None if top == enc.n_features else enc.projection
-        return count_cnf(top, clauses, projection, timeout=timeout, cancel=cancel, key=key)
+        """Exact number of products (see :meth:`count_result`)."""
+        return self.count_result(include, exclude, formula, timeout, cancel).value
 
-    @_locked
-    def feature_counts(self, timeout: Optional[float] = None,
-                       cancel: CancelLike = None) -> dict[str, int]:
+    def _cubes(self, formula: fm.Formula, limit: int = 4096) -> Optional[list[list[int]]]:
+        """Disjoint cubes (lists of feature literals) whose union is the formula's models, by
+        Shannon expansion on its variables; None when there would be more than ``limit``."""
+        enc = self.encoding
+        names = fm.variables(formula)
+        var = {n: enc.var(n) for n in names}  # KeyError for an unknown feature
+        freq: dict[str, int] = {}
+
+        def walk(f):
+            stack = [f]
+            while stack:
+                g = stack.pop()
+                if isinstance(g, fm.Var):
+                    freq[g.name] = freq.get(g.name, 0) + 1
+                elif isinstance(g, fm.Not):
+                    stack.append(g.arg)
+                elif isinstance(g, (fm.And, fm.Or)):
+                    stack.extend(g.args)
+        walk(formula)
+        order = sorted(names, key=lambda n: (-freq.get(n, 0), n))
+        out: list[list[int]] = []
+        stack: list[tuple[fm.Formula, list[int], int]] = [(formula, [], 0)]
+        while stack:
+            f, cube, k = stack.pop()
+            if isinstance(f, fm.Const):
+                if f.value:
+                    out.append(cube)
+                    if len(out) > limit:
+                        return None
+                continue
+            rest = fm.variables(f)
+            while order[k] not in rest:
+                k += 1
+            name = order[k]
+            v = var[name]
+            stack.append((fm.substitute(f, {name: fm.FALSE}), cube + [-v], k + 1))
+            stack.append((fm.substitute(f, {name: fm.TRUE}), cube + [v], k + 1))
+            if len(stack) > 4 * limit:
+                return None
+        return out
+
+    def feature_counts_result(self, include: Iterable[str] = (), exclude: Iterable[str] = (),
+                              timeout: Optional[float] = None, cancel: CancelLike = None,
+                              progress=None) -> FeatureCounts:
+        """Every feature's number of products (within the decisions): one pass over the
+        compiled d-DNNF; ``counts[v]`` for the feature numbered ``v`` (None: not counted in
+        time, pyganak only)."""
+        svc = self.counter
+
+        def backbone() -> dict[int, bool]:
+            with self._lock:
+                return dict(self.analyzer.backbone())
+        return svc.feature_counts(self._lits(include, exclude), timeout=timeout, cancel=cancel,
+                                  progress=progress, backbone=backbone)
+
+    def feature_counts(self, timeout: Optional[float] = None, cancel: CancelLike = None,
+                       include: Iterable[str] = (), exclude: Iterable[str] = ()) -> dict[str, int]:
         """Number of products containing each feature (dead: 0, core: the total).  With a
         timeout, features not counted in time are left out of the result."""
-        start = time.monotonic()
-        out: dict[str, int] = {}
-        if self.is_void():
-            return {self.name(f): 0 for f in self.encoding.features}
-        bb = self.analyzer.backbone()
-        total = None
-        for f, v in self.encoding.var_of_feature.items():
-            left = None if timeout is None else timeout - (time.monotonic() - start)
-            if left is not None and left <= 0:
-                break
+        try:
+            r = self.feature_counts_result(include, exclude, timeout=timeout, cancel=cancel)
+        except CountTimeout:
+            return {}
+        enc = self.encoding
+        return {self.name(f): r.counts[v] for f, v in enc.var_of_feature.items() if r.counts[v] is not None}
+
+    # ------------------------------------------------------------------ sampling
+    def sample(self, t: Optional[int] = None, uniform: Optional[int] = None, seed: Optional[int] = 0,
+               include: Iterable[str] = (), exclude: Iterable[str] = (), timeout: Optional[float] = None,
+               cancel: CancelLike = None) -> tuple[list[dict[str, bool]], str]:
+        """Products as {feature name: selected}: ``uniform`` of them drawn uniformly at random
+        (with replacement), or a ``t``-wise covering sample (t = 1, 2).  Returns (products,
+        engine)."""
+        from .counting.sampling import CircuitOracle, SatOracle, twise
+        enc = self.encoding
+        svc = self.counter
+        lits = self._lits(include, exclude)
+        names = {v: self.name(f) for f, v in enc.var_of_feature.items()}
+
+        def named(p: list[int]) -> dict[str, bool]:
+            return {names[abs(x)]: x > 0 for x in sorted(p, key=abs) if abs(x) in names}
+        if uniform is not None:
+            prods, engine = svc.sample_uniform(uniform, seed=seed, assumptions=lits, timeout=timeout,
+                                               cancel=cancel)
+            return [named(p) for p in prods], engine
+        if t is None:
+            raise ValueError("say t (t-wise) or uniform (how many)")
+        t0 = time.monotonic()
+        if svc.trivially_unsat:
+            return [], "trivial"
+        oracle = None
+        engine = "d4"
+        if svc.d4_usable():
             try:
-                if bb.get(v) is False:
-                    out[self.name(f)] = 0
-                elif bb.get(v) is True:
-                    if total is None:
-                        total = self.count(timeout=left, cancel=cancel)
-                    out[self.name(f)] = total
-                else:
-                    out[self.name(f)] = self.count(include=[self.name(f)], timeout=left, cancel=cancel)
-            except CountTimeout:
-                break
-        return out
+                comp = svc.circuit(None if timeout is None else timeout * 0.75, cancel)
+                oracle = CircuitOracle(comp.circuit, enc.n_features)
+            except (CountTimeout, EngineFailed):
+                oracle = None
+        if oracle is None:
+            oracle = SatOracle(enc.clauses(), enc.n_features)
+            engine = "sat"
+        try:
+            left = None if timeout is None else max(0.05, timeout - (time.monotonic() - t0))
+            prods = twise(oracle, enc.n_features, t=t, seed=seed, assumptions=lits, timeout=left, cancel=cancel)
+        finally:
+            if isinstance(oracle, SatOracle):
+                oracle.close()
+        return [named(p) for p in prods], engine
 
     # ------------------------------------------------------------------ products
     def _solver(self, include=(), exclude=(), formula: Optional[fm.Formula] = None):

@@ -55,17 +55,24 @@ def compute_model_facts(path: str, sources: dict[str, str], timeout: float) -> M
     try:
         eng = _engine(path, sources)
         t_end = time.monotonic() + timeout
-        facts.total = _as_int(eng.count(timeout=timeout))
-        facts.core = set(eng.core_features())
-        facts.dead = set(eng.dead_features())
-        facts.false_optional = set(eng.false_optional_features())
-        left = max(0.1, t_end - time.monotonic())
-        per = eng.feature_counts(timeout=left)
-        for f in eng.model.features:
-            n = per.get(eng.name(f))
+        # every feature's count in one pass over the compiled model (d4), or one projected
+        # count per feature (pyganak) as far as the budget goes
+        r = eng.feature_counts_result(timeout=timeout)
+        facts.total = r.total
+        enc = eng.encoding
+        for f, v in enc.var_of_feature.items():
+            n = r.counts[v]
             if n is not None:
                 facts.per_feature[f.long_name] = n
                 facts.per_feature.setdefault(f.name, n)
+        if r.complete and r.total:  # core and dead straight from the counts
+            facts.core = {eng.name(f) for f, v in enc.var_of_feature.items() if r.total and r.counts[v] == r.total}
+            facts.dead = {eng.name(f) for f, v in enc.var_of_feature.items() if r.counts[v] == 0}
+        else:
+            facts.core = set(eng.core_features())
+            facts.dead = set(eng.dead_features())
+        if time.monotonic() < t_end:
+            facts.false_optional = set(eng.false_optional_features())
     except Exception as e:  # a timeout or a model the engine refuses: say so, never crash
         facts.error = f"{type(e).__name__}: {e}" if str(e) else type(e).__name__
     facts.seconds = time.perf_counter() - t0
@@ -309,12 +316,16 @@ def list_products(path: str, sources: dict[str, str], decisions: dict[str, bool]
 
 
 def generation_products(path: str, sources: dict[str, str], decisions: dict[str, bool], mode: str,
-                        limit: int) -> list[dict[str, bool]]:
+                        limit: int, t: int = 2, seed: int = 0) -> list[dict[str, bool]]:
     """Products to write configuration files for: ``one`` (the smallest product respecting the
-    decisions), ``completions`` (every product respecting them) or ``all`` (every product)."""
+    decisions), ``completions`` (every product respecting them), ``all`` (every product) or
+    ``sample`` (a ``t``-wise covering sample of the products respecting them)."""
     eng = _engine(path, sources)
     inc = [k for k, v in decisions.items() if v]
     exc = [k for k, v in decisions.items() if not v]
+    if mode == "sample":
+        products, _ = eng.sample(t=t, seed=seed, include=inc, exclude=exc)
+        return products
     if mode == "one":
         p = eng.find_product(include=inc, exclude=exc)
         return [p] if p is not None else []

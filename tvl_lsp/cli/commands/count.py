@@ -1,28 +1,145 @@
-"""``tvl-lsp count MODEL [--include F]... [--exclude F]... [--json] [--timeout S]``
+"""``tvl-lsp count MODEL [--include F]... [--exclude F]... [--per-feature] [--json] [--timeout S]``
 
 Prints the exact number of products of a TVL model (``.tvl``) or of a DIMACS CNF
-(``.dimacs`` / ``.cnf``, imported as a flat model, names from ``c <index> <name>``
-comments) on its last line.  Exit code 0 on success, 2 on usage errors, unreadable
-input or timeout.
+(``.dimacs`` / ``.cnf``, every variable a feature, names from ``c <index> <name>``
+comments) on its last line; with ``--per-feature``, one line ``name<TAB>count`` per feature
+before it (every feature's count comes from one pass over the compiled model).
+
+``--json`` prints one object::
+
+    {"model": ..., "count": N, "count_text": "N", "digits": 211, "engine": "d4", ...,
+     "features": {"name": n, ...}}          # "features" with --per-feature only
+
+Counts are exact integers of any size, written as JSON numbers: Python's ``json`` (and any
+reader with big integers) reads them exactly; JavaScript's ``JSON.parse`` rounds numbers
+beyond 2^53, so ``count_text`` repeats the total as a decimal string.  ``engine`` says which
+counter answered (``d4``: the compiled d-DNNF; ``pyganak``: projected counting, used when
+the model's attribute values are not determined by its features or d4 failed).
+
+Exit code 0 on success, 2 on usage errors, unreadable input or timeout.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import re
 import sys
 import time
 
 
-def _load(path: str):
-    from ...analysis.engine import ModelAnalysis
+class _DimacsModel:
+    """A DIMACS CNF counted as it is: variable ``i`` is the feature named by its comment.
+    The flat TVL model ``tvl-lsp`` imports a DIMACS file as adds a root feature selected in
+    every product; it is reported here too, so both give the same answers."""
+
+    def __init__(self, path: str, text: str):
+        from ...analysis.counting import CNFCounter
+        from ...analysis.dimacs import parse_dimacs
+        nvars, clauses, names, _ = parse_dimacs(text)
+        self.n = max([nvars] + [abs(x) for c in clauses for x in c] + list(names))
+        stem = re.sub(r"\W", "_", os.path.splitext(os.path.basename(path))[0]) or "model"
+        if stem[0].isdigit():
+            stem = "_" + stem
+        taken = set(names.values())
+        root = stem
+        while root in taken:
+            root = "_" + root
+        self.root = root
+        self.names: list[str] = []
+        for i in range(1, self.n + 1):
+            name = names.get(i)
+            if name is None:
+                name = f"_{i}"
+                while name in taken:
+                    name = "_" + name
+            self.names.append(name)
+        self.var = {name: i + 1 for i, name in enumerate(self.names)}
+        self.unique = len(self.var) == len(self.names)
+        self.counter = CNFCounter(self.n, clauses, self.n, determined=True, label=root)
+
+    def known(self, name: str) -> bool:
+        return name == self.root or name in self.var
+
+    def lits(self, include, exclude):
+        out = []
+        for n in include:
+            if n != self.root:
+                out.append(self.var[n])
+        for n in exclude:
+            if n == self.root:
+                return None  # no product lacks the root
+            out.append(-self.var[n])
+        return out
+
+    def count(self, include, exclude, timeout):
+        from ...analysis.counting import Count
+        lits = self.lits(include, exclude)
+        if lits is None:
+            return Count(0, "trivial")
+        return self.counter.count(lits, timeout=timeout)
+
+    def per_feature(self, include, exclude, timeout):
+        lits = self.lits(include, exclude)
+        if lits is None:
+            return 0, {self.root: 0, **{n: 0 for n in self.names}}, "trivial"
+        r = self.counter.feature_counts(lits, timeout=timeout)
+        out = {self.root: r.total}
+        for i, n in enumerate(self.names):
+            if r.counts[i + 1] is not None:
+                out[n] = r.counts[i + 1]
+        return r.total, out, r.engine
+
+
+class _TvlModel:
+    def __init__(self, analysis):
+        self.a = analysis
+        self.enc = analysis.encoding
+        self.n = self.enc.n_features
+
+    def known(self, name: str) -> bool:
+        return self.enc.feature_by_name(name) is not None
+
+    def count(self, include, exclude, timeout):
+        return self.a.count_result(include=include, exclude=exclude, timeout=timeout)
+
+    def per_feature(self, include, exclude, timeout):
+        r = self.a.feature_counts_result(include, exclude, timeout=timeout)
+        out = {}
+        for f, v in self.enc.var_of_feature.items():
+            if r.counts[v] is not None:
+                out[self.a.name(f)] = r.counts[v]
+        return r.total, out, r.engine
+
+
+def load(path: str, need_unique_names: bool = True):
+    """(model, parse errors) for a ``.tvl`` / ``.uvl`` model or a DIMACS CNF.  Raises OSError or
+    ValueError."""
     with open(path, encoding="utf-8", errors="replace") as fh:
         text = fh.read()
     if path.endswith((".dimacs", ".cnf")):
-        return ModelAnalysis.from_dimacs(text, path), []
+        m = _DimacsModel(path, text)
+        if m.unique or not need_unique_names:
+            return m, []
+        from ...analysis.engine import ModelAnalysis
+        return _TvlModel(ModelAnalysis.from_dimacs(text, path)), []
+    from ...analysis.engine import ModelAnalysis
     from ...tvl import parse_model
     res = parse_model(text, path)
-    return ModelAnalysis(res.model), res.errors
+    if res.model is None:
+        raise ValueError("no model could be read")
+    return _TvlModel(ModelAnalysis(res.model)), res.errors
+
+
+def report_errors(prog: str, path: str, model, errors) -> None:
+    if errors:
+        for d in errors:
+            print(f"{d.path}:{d.span.start}: error: {d.message} [{d.code}]", file=sys.stderr)
+        print(f"{prog}: {path} has errors; the answer below is for what could be read", file=sys.stderr)
+    if isinstance(model, _TvlModel):
+        for d in model.enc.diagnostics():
+            print(f"{d.path}:{d.span.start}: info: {d.message} [{d.code}]", file=sys.stderr)
 
 
 def main(argv: list[str]) -> int:
@@ -30,36 +147,37 @@ def main(argv: list[str]) -> int:
     ap.add_argument("model", help="a .tvl model or a .dimacs CNF")
     ap.add_argument("--include", "-i", action="append", default=[], metavar="F", help="count only products with F")
     ap.add_argument("--exclude", "-x", action="append", default=[], metavar="F", help="count only products without F")
+    ap.add_argument("--per-feature", action="store_true", help="also the number of products with each feature")
     ap.add_argument("--json", action="store_true", help="print one JSON object")
     ap.add_argument("--timeout", type=float, default=None, metavar="S", help="give up after S seconds")
     try:
         args = ap.parse_args(argv)
     except SystemExit as ex:
         return 2 if ex.code else 0
-    from ...analysis.count import CountTimeout
+    from ...analysis.counting import CountTimeout
     t0 = time.monotonic()
     try:
-        an, errors = _load(args.model)
+        m, errors = load(args.model)
     except OSError as ex:
         print(f"tvl-lsp count: cannot read {args.model}: {ex.strerror}", file=sys.stderr)
         return 2
     except ValueError as ex:
         print(f"tvl-lsp count: {args.model}: {ex}", file=sys.stderr)
         return 2
-    if errors:
-        for d in errors:
-            print(f"{d.path}:{d.span.start}: error: {d.message} [{d.code}]", file=sys.stderr)
-        print(f"tvl-lsp count: {args.model} has errors; the count below is for what could be read",
-              file=sys.stderr)
-    enc = an.encoding
+    report_errors("tvl-lsp count", args.model, m, errors)
     for name in args.include + args.exclude:
-        if enc.feature_by_name(name) is None:
+        if not m.known(name):
             print(f"tvl-lsp count: no feature named {name!r} in {args.model}", file=sys.stderr)
             return 2
-    for d in enc.diagnostics():
-        print(f"{d.path}:{d.span.start}: info: {d.message} [{d.code}]", file=sys.stderr)
+    per = None
     try:
-        n = an.count(include=args.include, exclude=args.exclude, timeout=args.timeout)
+        if args.per_feature:
+            n, per, engine = m.per_feature(args.include, args.exclude, args.timeout)
+        else:
+            c = m.count(args.include, args.exclude, args.timeout)
+            n, engine = c.value, c.engine
+            if c.note and engine == "pyganak":
+                print(f"tvl-lsp count: counted with pyganak ({c.note})", file=sys.stderr)
     except CountTimeout:
         if args.json:
             print(json.dumps({"model": args.model, "count": None, "timeout": True}))
@@ -67,9 +185,16 @@ def main(argv: list[str]) -> int:
         return 2
     dt = time.monotonic() - t0
     if args.json:
-        print(json.dumps({"model": args.model, "count": n, "count_text": str(n), "digits": len(str(n)),
-                          "include": args.include, "exclude": args.exclude,
-                          "features": enc.n_features, "seconds": round(dt, 3)}))
+        out = {"model": args.model, "count": n, "count_text": str(n), "digits": len(str(n)),
+               "engine": engine, "include": args.include, "exclude": args.exclude,
+               "n_features": m.n + (1 if isinstance(m, _DimacsModel) else 0), "seconds": round(dt, 3)}
+        if per is not None:
+            out["features"] = per
+            out["complete"] = len(per) == out["n_features"]
+        print(json.dumps(out))
     else:
+        if per is not None:
+            for name, k in per.items():
+                print(f"{name}\t{k}")
         print(n)
     return 0

@@ -1,5 +1,5 @@
-"""``tvl-lsp generate LAUNCH [--model MODEL] [--out DIR] [--mode all|completions|one] [--limit N]
-[--include F]... [--exclude F]... [--dry-run]``
+"""``tvl-lsp generate LAUNCH [--model MODEL] [--out DIR] [--mode all|completions|one|sample] [--t 2]
+[--seed S] [--limit N] [--include F]... [--exclude F]... [--dry-run]``
 
 Writes configuration launch files (the thesis's Listing 6.1) for the products of the model
 paired with a generic launch file: each sets the feature args to true/false and includes the
@@ -7,6 +7,11 @@ generic file through ``$(find pkg)``.  The same pure functions as the language s
 "generate configuration launch files" action (``tvl_lsp.project.generate``).  Files are named after
 the selected features, written under ``--out`` (default: ``configs`` in the launch file's
 package), never outside the workspace.  Prints one written path per line.
+
+``--mode sample --t 2`` writes a pairwise covering sample: every valid pair of features (A
+with B, A without B, ...) is in some file -- the test matrix a robot's CI can afford when all
+products are millions (``--t 1``: every feature on and off).  ``--limit`` does not apply to a
+sample unless given (cutting a sample short loses coverage: a warning says so).
 """
 
 from __future__ import annotations
@@ -22,9 +27,13 @@ def main(argv: list[str]) -> int:
     ap.add_argument("launch", help="the generic launch file")
     ap.add_argument("--model", help="the model (default: the one paired with the launch file)")
     ap.add_argument("--out", help="output folder (absolute, or relative to the launch file's package)")
-    ap.add_argument("--mode", choices=["all", "completions", "one"], default="completions",
-                    help="all products, every completion of --include/--exclude (default), or one")
-    ap.add_argument("--limit", type=int, default=100, help="at most this many files (default 100)")
+    ap.add_argument("--mode", choices=["all", "completions", "one", "sample"], default="completions",
+                    help="all products, every completion of --include/--exclude (default), one, "
+                         "or a t-wise sample")
+    ap.add_argument("--t", type=int, choices=[1, 2], default=2, help="with --mode sample: 1 or 2 (default)")
+    ap.add_argument("--seed", type=int, default=0, help="with --mode sample: random seed (default 0)")
+    ap.add_argument("--limit", type=int, default=None,
+                    help="at most this many files (default 100; no limit for a sample)")
     ap.add_argument("--include", "-i", action="append", default=[], metavar="F")
     ap.add_argument("--exclude", "-x", action="append", default=[], metavar="F")
     ap.add_argument("--workspace", help="workspace root (default: found from the launch file)")
@@ -70,8 +79,10 @@ def main(argv: list[str]) -> int:
     sources[model] = mtext
     decisions = {f: True for f in args.include}
     decisions.update({f: False for f in args.exclude})
+    limit = args.limit if args.limit is not None else (None if args.mode == "sample" else 100)
     try:
-        products = generation_products(model, sources, decisions, args.mode, max(1, args.limit))
+        products = generation_products(model, sources, decisions, args.mode, max(1, limit or 1),
+                                       t=args.t, seed=args.seed)
     except KeyError as ex:
         print(f"tvl-lsp generate: {ex.args[0] if ex.args else ex}", file=sys.stderr)
         return 2
@@ -81,8 +92,12 @@ def main(argv: list[str]) -> int:
     package = ws.package_of(launch)
     try:
         out_dir = resolve_folder(args.out, launch, [root])
+        if args.mode == "sample" and limit is not None and len(products) > limit:
+            print(f"tvl-lsp generate: the {args.t}-wise sample has {len(products)} configurations; writing "
+                  f"the first {limit} only (--limit), so some pairs are not covered", file=sys.stderr)
         files = plan_configurations(products, features, launch, out_dir, [root], package,
                                     ws.packages.get(package) if package else None,
+                                    limit=limit if args.mode == "sample" else None,
                                     omit=[res.model.root.name])
     except GenerateError as ex:
         print(f"tvl-lsp generate: {ex}", file=sys.stderr)

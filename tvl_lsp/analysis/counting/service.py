@@ -1,0 +1,390 @@
+"""The counting service: one CNF, counted on its features, by knowledge compilation.
+
+    svc = CNFCounter(nvars, clauses, n_features)          # features are variables 1..n_features
+    svc.count()                       -> Count(value, engine, seconds)
+    svc.count([3, -7])                -> under decisions (literals over the features)
+    svc.feature_counts([3])           -> FeatureCounts(total, counts[v] for v in 1..n, engine)
+    svc.sample_uniform(10, seed=1)    -> [[literals of features], ...]
+    svc.circuit()                     -> the compiled d-DNNF (compiles once, then cached)
+
+How a count is answered:
+
+1. **d4**: the CNF is compiled once into a d-DNNF (in a child process, bounded in time and
+   cancellable; tiny CNFs in-process), cached in memory and on disk by content
+   (:mod:`.cache`), and every query is a pass over the circuit (:mod:`.circuit`): the total,
+   counts under decisions, and every feature's count in one pass.  The circuit counts
+   assignments of *all* variables of the CNF, which is the count of products only when the
+   auxiliary variables (numbers above ``n_features``) are determined by the features.  The
+   caller says so with ``determined`` (the TVL encoding's Tseitin and counter variables are;
+   attribute values may not be: :meth:`Encoding.aux_determined` checks it); auxiliary
+   variables that occur in no clause are left out of the counted universe.
+2. **pyganak** (projected model counting on the features, :mod:`.projected`): when the
+   auxiliary variables are not determined, when d4 fails, or when d4 runs out of its share of
+   the time budget (three quarters of it; pyganak gets the rest).
+
+Every result says which engine answered.  ``ddnnife`` (the d-DNNF reasoner) answers t-wise
+sampling of big models (:mod:`.sampling`) from the same compiled file.
+"""
+
+from __future__ import annotations
+
+import os
+import random
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Optional, Sequence
+
+from . import cache as C
+from .circuit import Circuit, NNFError
+from .errors import CancelLike, CountCancelled, CountTimeout, EngineFailed, is_cancelled
+
+Progress = Optional[Callable[[str], None]]
+
+# compile in this process below these sizes when there is no time budget and no cancel token
+# (a child process costs ~0.3 s; d4 takes milliseconds on feature models this small); with a
+# budget or a token, always in a child process that can be killed: a hard CNF of 120 variables
+# can keep d4 busy for minutes
+INPROCESS_MAX_VARS = 400
+INPROCESS_MAX_CLAUSES = 4000
+PYGANAK_INPROCESS_VARS = 100  # with a budget: bigger CNFs go to a killable child process
+D4_SHARE = 0.75  # of a time budget, the part d4 gets before pyganak takes over
+
+MEMORY = C.MemoryCache(8)
+DISK = C.DiskCache()
+# d4 failures, remembered for this process: key -> (reason, budget it had)
+_FAILED: dict[str, tuple[str, Optional[float]]] = {}
+_COMPILE_LOCKS: dict[str, threading.Lock] = {}
+_LOCKS_LOCK = threading.Lock()
+
+
+@dataclass
+class Count:
+    value: int
+    engine: str          # "d4" | "pyganak" | "trivial"
+    seconds: float = 0.0
+    cached: bool = False
+    note: str = ""       # why the fallback answered, when it did
+
+
+@dataclass
+class FeatureCounts:
+    total: int
+    counts: list[int]    # counts[v] = products with feature v (index 0 unused)
+    engine: str
+    seconds: float = 0.0
+    complete: bool = True  # False: a budget ran out, counts of 0.. are missing (None entries)
+    note: str = ""
+
+
+@dataclass
+class Compiled:
+    circuit: Circuit
+    key: str
+    path: Optional[str]
+    seconds: float
+    source: str          # "memory" | "disk" | "d4"
+
+
+def _lock_for(key: str) -> threading.Lock:
+    with _LOCKS_LOCK:
+        lk = _COMPILE_LOCKS.get(key)
+        if lk is None:
+            lk = _COMPILE_LOCKS[key] = threading.Lock()
+        return lk
+
+
+class CNFCounter:
+    def __init__(self, nvars: int, clauses: Sequence[Sequence[int]], n_features: int,
+                 determined: bool = True, label: str = "model", d4_options: Optional[dict] = None):
+        self.nvars = max(nvars, n_features)
+        self.clauses = [list(c) for c in clauses]
+        self.n_features = n_features
+        self.determined = determined
+        self.label = label
+        self.d4_options = d4_options
+        used: set[int] = set()
+        for c in self.clauses:
+            for x in c:
+                used.add(abs(x))
+        self.universe = sorted(set(range(1, n_features + 1)) | used)
+        # auxiliary variables that occur in no clause double d4's count each
+        self.unused_aux = self.nvars - len(self.universe)
+        self.key = C.cnf_key(self.nvars, self.clauses, extra=repr(sorted((d4_options or {}).items())))
+        self.last_engine: Optional[str] = None
+
+    # ------------------------------------------------------------------ engines
+    @property
+    def trivially_unsat(self) -> bool:
+        """An empty clause (d4 and pyganak settle every other unsatisfiable CNF themselves)."""
+        return any(not c for c in self.clauses)
+
+    def d4_usable(self) -> bool:
+        return self.determined and self.key not in _FAILED
+
+    def compiled(self, timeout: Optional[float] = None, cancel: CancelLike = None,
+                 progress: Progress = None, need_nnf: bool = False) -> tuple[Optional[str], int, str]:
+        """Make sure the d-DNNF exists: (NNF text if it was read or made here, else None;
+        the d4 count over all variables, -1 when unknown; where it came from: "memory" |
+        "disk" | "d4").  With ``need_nnf``, a count alone on disk is not enough.
+        Raises CountTimeout, CountCancelled or EngineFailed."""
+        got = MEMORY.get(self.key)
+        if got is not None:
+            return None, -1, "memory"
+        failed = _FAILED.get(self.key)
+        if failed is not None and (failed[1] is None or (timeout is not None and timeout <= failed[1])):
+            raise EngineFailed(failed[0])
+        with _lock_for(self.key):
+            if MEMORY.get(self.key) is not None:
+                return None, -1, "memory"
+            n = DISK.get_count(self.key)
+            if n is not None and (not need_nnf or DISK.has(self.key)):
+                return None, n, "disk"
+            if is_cancelled(cancel):
+                raise CountCancelled()
+            if progress:
+                progress(f"compiling {self.label} with d4")
+            try:
+                if timeout is None and cancel is None and self.nvars <= INPROCESS_MAX_VARS \
+                        and len(self.clauses) <= INPROCESS_MAX_CLAUSES:
+                    from .d4 import compile_inprocess
+                    text, n = compile_inprocess(self.nvars, self.clauses, self.d4_options)
+                    DISK.put(self.key, text, n)
+                else:
+                    from .d4 import compile_cnf
+                    tmp = DISK.tmp_path(self.key)
+                    try:
+                        rep = compile_cnf(self.nvars, self.clauses, tmp, timeout=timeout, cancel=cancel,
+                                          progress=progress, options=self.d4_options)
+                        text = None
+                        n = rep["count"]
+                        if DISK.adopt(self.key, tmp, n) is None:
+                            with open(tmp) as fh:  # no disk cache: keep it in memory
+                                text = fh.read()
+                    finally:
+                        if os.path.exists(tmp):
+                            try:
+                                os.unlink(tmp)
+                            except OSError:
+                                pass
+            except CountTimeout as e:
+                _FAILED[self.key] = (str(e), timeout)
+                raise
+            except EngineFailed as e:
+                _FAILED[self.key] = (str(e), None)
+                raise
+            except (ImportError, OSError, RuntimeError) as e:
+                _FAILED[self.key] = (f"d4 failed: {type(e).__name__}: {e}", None)
+                raise EngineFailed(_FAILED[self.key][0]) from e
+            if text is not None and DISK.path(self.key) is None:
+                self._load(text)
+            return text, n, "d4"
+
+    def _load(self, text: str, from_disk: bool = False) -> Optional[Circuit]:
+        try:
+            circ = Circuit(text, self.nvars, self.universe)
+        except NNFError as e:
+            DISK.discard(self.key)
+            if from_disk:
+                return None  # damaged (a writer died, a disk error): compile again
+            _FAILED[self.key] = (f"d4 wrote an unreadable d-DNNF: {e}", None)
+            raise EngineFailed(_FAILED[self.key][0]) from e
+        MEMORY.put(self.key, circ)
+        return circ
+
+    def circuit(self, timeout: Optional[float] = None, cancel: CancelLike = None,
+                progress: Progress = None) -> Compiled:
+        """The compiled d-DNNF, parsed (from memory, disk, or d4).  Raises CountTimeout,
+        CountCancelled or EngineFailed."""
+        t0 = time.perf_counter()
+        for _ in range(3):
+            text, _, source = self.compiled(timeout, cancel, progress, need_nnf=True)
+            circ = MEMORY.get(self.key)
+            if circ is None:
+                from_disk = text is None
+                if from_disk:
+                    text = DISK.get(self.key)
+                if text is None:  # evicted meanwhile by another process: compile again
+                    DISK.discard(self.key)
+                    continue
+                circ = self._load(text, from_disk)
+                if circ is None:
+                    continue
+            p = DISK.path(self.key)
+            return Compiled(circ, self.key, str(p) if p else None, time.perf_counter() - t0, source)
+        raise EngineFailed("the compiled d-DNNF could not be read back from the cache")
+
+    def _check_lits(self, assumptions: Sequence[int]) -> list[int]:
+        out = []
+        for x in assumptions:
+            if not x or abs(x) > self.n_features:
+                raise ValueError(f"decision {x} is not a feature literal")
+            out.append(int(x))
+        return out
+
+    # ------------------------------------------------------------------ counts
+    def count(self, assumptions: Sequence[int] = (), timeout: Optional[float] = None,
+              cancel: CancelLike = None, progress: Progress = None) -> Count:
+        """Products with the given feature literals."""
+        t0 = time.perf_counter()
+        lits = self._check_lits(assumptions)
+        if self.trivially_unsat:
+            return self._done(Count(0, "trivial", time.perf_counter() - t0))
+        note = ""
+        if self.d4_usable():
+            try:
+                if not lits:
+                    _, n, source = self.compiled(self._d4_budget(timeout), cancel, progress)
+                    if n >= 0:
+                        return self._done(Count(n >> self.unused_aux, "d4", time.perf_counter() - t0,
+                                                source != "d4"))
+                comp = self.circuit(self._d4_budget(timeout), cancel, progress)
+                n = comp.circuit.count(lits)
+                return self._done(Count(n, "d4", time.perf_counter() - t0, comp.source != "d4"))
+            except (CountTimeout, EngineFailed) as e:
+                note = str(e)
+        elif not self.determined:
+            note = "the encoding has auxiliary variables the features do not determine"
+        else:
+            note = _FAILED.get(self.key, ("d4 failed",))[0]
+        left = None if timeout is None else max(0.05, timeout - (time.perf_counter() - t0))
+        n = self._pyganak(lits, left, cancel)
+        return self._done(Count(n, "pyganak", time.perf_counter() - t0, note=note))
+
+    def feature_counts(self, assumptions: Sequence[int] = (), timeout: Optional[float] = None,
+                       cancel: CancelLike = None, progress: Progress = None,
+                       backbone: Optional[Callable[[], dict[int, bool]]] = None) -> FeatureCounts:
+        """The number of products with each feature (within the decisions), in one pass over
+        the compiled circuit; one projected count per open feature with pyganak."""
+        t0 = time.perf_counter()
+        lits = self._check_lits(assumptions)
+        n = self.n_features
+        if self.trivially_unsat:
+            return FeatureCounts(0, [0] * (n + 1), "trivial", time.perf_counter() - t0)
+        note = ""
+        if self.d4_usable():
+            try:
+                comp = self.circuit(self._d4_budget(timeout), cancel, progress)
+                r = comp.circuit.counts(lits)
+                self.last_engine = "d4"
+                return FeatureCounts(r.total, r.positive[: n + 1], "d4", time.perf_counter() - t0)
+            except (CountTimeout, EngineFailed) as e:
+                note = str(e)
+        elif not self.determined:
+            note = "the encoding has auxiliary variables the features do not determine"
+        # pyganak: a count per feature, the backbone settles core and dead ones for free
+        deadline = None if timeout is None else t0 + timeout
+        total = self._pyganak(lits, self._left(deadline), cancel)
+        counts: list = [None] * (n + 1)
+        counts[0] = 0
+        fixed = {abs(x): x > 0 for x in lits}
+        bb = {}
+        if total and backbone is not None and not lits:
+            bb = backbone()
+        complete = True
+        for v in range(1, n + 1):
+            if v in fixed:
+                counts[v] = total if fixed[v] else 0
+            elif not total:
+                counts[v] = 0
+            elif v in bb:
+                counts[v] = total if bb[v] else 0
+            else:
+                left = self._left(deadline)
+                if left is not None and left <= 0:
+                    complete = False
+                    break
+                try:
+                    counts[v] = self._pyganak(lits + [v], left, cancel)
+                except CountTimeout:
+                    complete = False
+                    break
+            if progress and v % 50 == 0:
+                progress(f"counting feature {v} of {n} with pyganak")
+        self.last_engine = "pyganak"
+        return FeatureCounts(total, counts, "pyganak", time.perf_counter() - t0, complete, note)
+
+    # ------------------------------------------------------------------ sampling
+    def sample_uniform(self, amount: int, seed: Optional[int] = None, assumptions: Sequence[int] = (),
+                       timeout: Optional[float] = None, cancel: CancelLike = None) -> tuple[list[list[int]], str]:
+        """``amount`` products drawn uniformly at random (with replacement) among those with
+        the given literals: (list of feature-literal lists, engine).  Exact uniformity: each
+        product with probability 1/count."""
+        lits = self._check_lits(assumptions)
+        rng = random.Random(seed)
+        n = self.n_features
+        if self.trivially_unsat:
+            return [], "trivial"
+        if self.d4_usable():
+            try:
+                comp = self.circuit(self._d4_budget(timeout), cancel)
+                out = []
+                for _ in range(amount):
+                    s = comp.circuit.sample(rng, lits)
+                    if s is None:
+                        return [], "d4"
+                    out.append([x for x in s if abs(x) <= n])
+                return out, "d4"
+            except (CountTimeout, EngineFailed):
+                pass
+        # self-reduction with projected counts: feature by feature, in proportion
+        deadline = None if timeout is None else time.monotonic() + timeout
+        out = []
+        for _ in range(amount):
+            cur = list(lits)
+            total = self._pyganak(cur, self._left_m(deadline), cancel)
+            if not total:
+                return [], "pyganak"
+            fixed = {abs(x) for x in cur}
+            for v in range(1, n + 1):
+                if v in fixed:
+                    continue
+                with_v = self._pyganak(cur + [v], self._left_m(deadline), cancel)
+                if rng.randrange(total) < with_v:
+                    cur.append(v)
+                    total = with_v
+                else:
+                    cur.append(-v)
+                    total = total - with_v
+            out.append(sorted(cur, key=abs))
+        return out, "pyganak"
+
+    # ------------------------------------------------------------------ helpers
+    def _done(self, c: Count) -> Count:
+        self.last_engine = c.engine
+        return c
+
+    @staticmethod
+    def _d4_budget(timeout: Optional[float]) -> Optional[float]:
+        return None if timeout is None else timeout * D4_SHARE
+
+    @staticmethod
+    def _left(deadline: Optional[float]) -> Optional[float]:
+        return None if deadline is None else deadline - time.perf_counter()
+
+    @staticmethod
+    def _left_m(deadline: Optional[float]) -> Optional[float]:
+        if deadline is None:
+            return None
+        left = deadline - time.monotonic()
+        if left <= 0:
+            raise CountTimeout("no answer within the time budget")
+        return left
+
+    def _pyganak(self, lits: Sequence[int], timeout: Optional[float], cancel: CancelLike) -> int:
+        from .projected import count_cnf, query_key
+        if timeout is not None and timeout <= 0:
+            raise CountTimeout("no answer within the time budget")
+        key = query_key(self.key, False, lits)
+        projection = None if self.nvars == self.n_features else list(range(1, self.n_features + 1))
+        # pyganak cannot be interrupted in-process: with a budget or a cancel token, only CNFs
+        # small enough to be instant are counted here
+        inprocess = False if (timeout is not None or cancel is not None) and self.nvars > PYGANAK_INPROCESS_VARS \
+            else None
+        return count_cnf(self.nvars, self.clauses + [[x] for x in lits], projection,
+                         timeout=timeout, cancel=cancel, key=key, inprocess=inprocess)
+
+
+def forget_failures() -> None:
+    """Forget remembered d4 failures (tests)."""
+    _FAILED.clear()
