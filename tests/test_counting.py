@@ -15,15 +15,15 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.analysis import formula as fm
+from tvl_lsp.base import formula as fm
 from tvl_lsp.analysis.counting import service as S
 from tvl_lsp.analysis.counting.cache import DiskCache
 from tvl_lsp.analysis.counting.circuit import Circuit
 from tvl_lsp.analysis.counting.d4 import compile_cnf, compile_inprocess
 from tvl_lsp.analysis.counting.errors import CountCancelled, CountTimeout, EngineFailed
 from tvl_lsp.analysis.engine import ModelAnalysis
-from tvl_lsp.commands import count as count_cmd
-from tvl_lsp.commands import sample as sample_cmd
+from tvl_lsp.cli.commands import count as count_cmd
+from tvl_lsp.cli.commands import sample as sample_cmd
 from tvl_lsp.tvl import parse_model
 
 REPO = Path(__file__).resolve().parents[1]
@@ -425,7 +425,7 @@ def test_generate_sample_writes_a_pairwise_cover(tmp_path):
     ws = tmp_path / "ws"
     shutil.copytree(REPO / "examples" / "ws", ws)
     launch = ws / "src" / "turtlerand" / "launch" / "generic.launch"
-    from tvl_lsp.commands import generate
+    from tvl_lsp.cli.commands import generate
     assert generate.main([str(launch), "--mode", "sample", "--t", "2", "--out", "cfg", "--workspace", str(ws)]) == 0
     files = sorted((ws / "src" / "turtlerand" / "cfg").glob("*.launch"))
     a = load(ws / "src" / "turtlerand" / "launch" / "generic.tvl")

@@ -331,48 +331,12 @@ class Encoding:
 
     def aux_determined(self, time_budget: Optional[float] = 5.0) -> bool:
         """Are all auxiliary variables (those above the features) functions of the features?
-        Then every product has exactly one extension to a model of the CNF, and counting all
-        variables counts the products.  Padoa's test on the attribute variables (the rest are
-        defined by construction): the CNF twice, the features shared, some attribute variable
-        different -- unsatisfiable iff they are all determined.  False when the SAT call does
-        not finish within ``time_budget``."""
-        if self._determined is not None:
-            return self._determined
-        clauses = self.clauses()
-        used = {abs(x) for c in clauses for x in c}
-        attrs = [v for v in self.attribute_vars() if v in used]
-        if not attrs:
-            self._determined = True
-            return True
-        from pysat.solvers import Solver
-        n, top = self.n_features, self.nvars
-
-        def shift(x: int) -> int:
-            return x if abs(x) <= n else (x + top - n if x > 0 else x - top + n)
-
-        cnf = list(clauses) + [[shift(x) for x in c] for c in clauses]
-        d0 = 2 * top
-        diff = []
-        for i, v in enumerate(attrs):
-            d = d0 + i + 1
-            w = shift(v)
-            cnf.append([-d, v, w])
-            cnf.append([-d, -v, -w])
-            diff.append(d)
-        cnf.append(diff)
-        with Solver(name="minisat22", bootstrap_with=cnf, use_timer=False) as s:
-            if time_budget is None:
-                res = s.solve()
-            else:
-                import threading
-                timer = threading.Timer(time_budget, s.interrupt)
-                timer.start()
-                try:
-                    res = s.solve_limited(expect_interrupt=True)
-                finally:
-                    timer.cancel()
-        # unsatisfiable: no two models agree on the features and differ on an attribute
-        self._determined = res is False
+        Then counting all variables (d4) counts the products.  See
+        :func:`.counting.definability.attributes_determined`."""
+        if self._determined is None:
+            from .counting.definability import attributes_determined
+            self._determined = attributes_determined(self.clauses(), self.n_features, self.nvars,
+                                                     self.attribute_vars(), time_budget)
         return self._determined
 
     def formula_clauses(self, f: fm.Formula, top: Optional[int] = None) -> tuple[list[list[int]], int]:

@@ -46,10 +46,24 @@ def _d4_options(options: Optional[dict]):
     return py_d4.load_options_from_dict(options)
 
 
-def compile_inprocess(nvars: int, clauses: Sequence[Sequence[int]], options: Optional[dict] = None) -> tuple[str, int]:
+def compile_inprocess(nvars: int, clauses: Sequence[Sequence[int]], options: Optional[dict] = None,
+                      interruptible: bool = False) -> tuple[str, int]:
     """(NNF text, model count over variables 1..nvars) of the CNF (d4 in this process; fd 1
-    silenced meanwhile)."""
+    silenced meanwhile).  ``interruptible`` (main thread of a command-line process only): Ctrl-C
+    ends the process during the compilation (d4 does not return to Python to see it)."""
     import py_d4
+    import signal
+    old = None
+    if interruptible and threading.current_thread() is threading.main_thread():
+        old = signal.signal(signal.SIGINT, signal.SIG_DFL)
+    try:
+        return _compile_inprocess(py_d4, nvars, clauses, options)
+    finally:
+        if old is not None:
+            signal.signal(signal.SIGINT, old)
+
+
+def _compile_inprocess(py_d4, nvars, clauses, options) -> tuple[str, int]:
     with _FD_LOCK:
         sys.stdout.flush()
         saved = os.dup(1)

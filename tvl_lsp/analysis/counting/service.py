@@ -49,6 +49,7 @@ INPROCESS_MAX_VARS = 400
 INPROCESS_MAX_CLAUSES = 4000
 PYGANAK_INPROCESS_VARS = 100  # with a budget: bigger CNFs go to a killable child process
 D4_SHARE = 0.75  # of a time budget, the part d4 gets before pyganak takes over
+MIN_FALLBACK_BUDGET = 0.2  # seconds: less is not worth starting pyganak's process
 
 MEMORY = C.MemoryCache(8)
 DISK = C.DiskCache()
@@ -96,13 +97,17 @@ def _lock_for(key: str) -> threading.Lock:
 
 class CNFCounter:
     def __init__(self, nvars: int, clauses: Sequence[Sequence[int]], n_features: int,
-                 determined: bool = True, label: str = "model", d4_options: Optional[dict] = None):
+                 determined: bool = True, label: str = "model", d4_options: Optional[dict] = None,
+                 inprocess: bool = False):
         self.nvars = max(nvars, n_features)
         self.clauses = [list(c) for c in clauses]
         self.n_features = n_features
         self.determined = determined
         self.label = label
         self.d4_options = d4_options
+        # compile in this process whatever the size when there is no budget (the command line:
+        # Ctrl-C still works, see d4.compile_inprocess); never in the language server
+        self.inprocess = inprocess
         used: set[int] = set()
         for c in self.clauses:
             for x in c:
@@ -145,10 +150,11 @@ class CNFCounter:
             if progress:
                 progress(f"compiling {self.label} with d4")
             try:
-                if timeout is None and cancel is None and self.nvars <= INPROCESS_MAX_VARS \
-                        and len(self.clauses) <= INPROCESS_MAX_CLAUSES:
+                if timeout is None and cancel is None and (self.inprocess or (
+                        self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES)):
                     from .d4 import compile_inprocess
-                    text, n = compile_inprocess(self.nvars, self.clauses, self.d4_options)
+                    text, n = compile_inprocess(self.nvars, self.clauses, self.d4_options,
+                                                interruptible=self.inprocess)
                     DISK.put(self.key, text, n)
                 else:
                     from .d4 import compile_cnf
@@ -247,7 +253,9 @@ class CNFCounter:
             note = "the encoding has auxiliary variables the features do not determine"
         else:
             note = _FAILED.get(self.key, ("d4 failed",))[0]
-        left = None if timeout is None else max(0.05, timeout - (time.perf_counter() - t0))
+        left = None if timeout is None else timeout - (time.perf_counter() - t0)
+        if left is not None and left < MIN_FALLBACK_BUDGET:
+            raise CountTimeout(f"no answer within {timeout:g} s ({note})")
         n = self._pyganak(lits, left, cancel)
         return self._done(Count(n, "pyganak", time.perf_counter() - t0, note=note))
 

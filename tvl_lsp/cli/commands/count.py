@@ -57,7 +57,7 @@ class _DimacsModel:
             self.names.append(name)
         self.var = {name: i + 1 for i, name in enumerate(self.names)}
         self.unique = len(self.var) == len(self.names)
-        self.counter = CNFCounter(self.n, clauses, self.n, determined=True, label=root)
+        self.counter = CNFCounter(self.n, clauses, self.n, determined=True, label=root, inprocess=True)
 
     def known(self, name: str) -> bool:
         return name == self.root or name in self.var
