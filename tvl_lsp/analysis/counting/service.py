@@ -42,11 +42,13 @@ from .errors import CancelLike, CountCancelled, CountTimeout, EngineFailed, is_c
 Progress = Optional[Callable[[str], None]]
 
 # compile in this process below these sizes when there is no time budget and no cancel token
-# (a child process costs ~0.3 s; d4 takes milliseconds on feature models this small); with a
-# budget or a token, always in a child process that can be killed: a hard CNF of 120 variables
-# can keep d4 busy for minutes
+# (a child process costs ~0.3 s, seconds on a loaded machine; d4 takes milliseconds on feature
+# models this small); with a budget or a token, in a child process that can be killed (a hard
+# random CNF of 120 variables keeps d4 busy for minutes), except the tiny CNFs of typical robot
+# models (the language server's worker process is itself killed when it overruns)
 INPROCESS_MAX_VARS = 400
 INPROCESS_MAX_CLAUSES = 4000
+INPROCESS_BUDGETED_VARS = 150
 PYGANAK_INPROCESS_VARS = 100  # with a budget: bigger CNFs go to a killable child process
 D4_SHARE = 0.75  # of a time budget, the part d4 gets before pyganak takes over
 MIN_FALLBACK_BUDGET = 0.2  # seconds: less is not worth starting pyganak's process
@@ -150,8 +152,9 @@ class CNFCounter:
             if progress:
                 progress(f"compiling {self.label} with d4")
             try:
-                if timeout is None and cancel is None and (self.inprocess or (
-                        self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES)):
+                small = self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES
+                tiny = self.nvars <= INPROCESS_BUDGETED_VARS and len(self.clauses) <= 10 * INPROCESS_BUDGETED_VARS
+                if tiny or (timeout is None and cancel is None and (self.inprocess or small)):
                     from .d4 import compile_inprocess
                     text, n = compile_inprocess(self.nvars, self.clauses, self.d4_options,
                                                 interruptible=self.inprocess)
