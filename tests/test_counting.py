@@ -453,3 +453,15 @@ def test_one_pass_counter_for_the_configurator():
     assert c.remaining(a, dec) == len(sel)
     per = c.per_feature(a, dec, {"Arm": True, "Lidar": False}, len(sel), names)
     assert per == {n: sum(1 for p in sel if p[n]) for n in names}
+
+
+def test_cnf_without_variables(tmp_path):
+    """d4 dies of a floating point exception on it: the service never hands it one."""
+    assert compile_inprocess(0, []) == ("t 1 0\n", 1)
+    assert compile_inprocess(0, [[]])[1] == 0
+    assert compile_cnf(0, [], str(tmp_path / "x.nnf"))["count"] == 1
+    assert S.CNFCounter(0, [], 0).count().value == 1
+    assert S.CNFCounter(0, [], 0).feature_counts().total == 1
+    res = parse_model("root R { }\n", "r.tvl")
+    if res.model is not None and res.model.root is not None:
+        assert ModelAnalysis(res.model).count() == 1

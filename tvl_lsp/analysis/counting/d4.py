@@ -51,6 +51,8 @@ def compile_inprocess(nvars: int, clauses: Sequence[Sequence[int]], options: Opt
     """(NNF text, model count over variables 1..nvars) of the CNF (d4 in this process; fd 1
     silenced meanwhile).  ``interruptible`` (main thread of a command-line process only): Ctrl-C
     ends the process during the compilation (d4 does not return to Python to see it)."""
+    if nvars == 0:  # d4 dies of a floating point exception on a CNF without variables
+        return _no_vars(clauses)
     import py_d4
     import signal
     old = None
@@ -61,6 +63,12 @@ def compile_inprocess(nvars: int, clauses: Sequence[Sequence[int]], options: Opt
     finally:
         if old is not None:
             signal.signal(signal.SIGINT, old)
+
+
+def _no_vars(clauses) -> tuple[str, int]:
+    """The d-DNNF of a CNF over no variable: true (one model, the empty one) unless a clause
+    is empty."""
+    return ("f 1 0\n", 0) if any(not c for c in clauses) else ("t 1 0\n", 1)
 
 
 def _compile_inprocess(py_d4, nvars, clauses, options) -> tuple[str, int]:
@@ -87,6 +95,11 @@ def compile_cnf(nvars: int, clauses: Sequence[Sequence[int]], out_path: str, tim
     """Compile in a child process; the NNF lands in ``out_path``.  Returns the child's report
     (its ``count`` is the model count over variables 1..nvars, as an int).
     Raises CountTimeout / CountCancelled / EngineFailed."""
+    if nvars == 0:  # d4 dies of a floating point exception on a CNF without variables
+        text, count = _no_vars(clauses)
+        with open(out_path, "w") as fh:
+            fh.write(text)
+        return {"ok": True, "seconds": 0.0, "nodes": 1, "edges": 0, "count": count}
     cnf_path = out_path + ".cnf"
     with open(cnf_path, "wb") as fh:
         fh.write(dimacs_bytes(nvars, clauses))
