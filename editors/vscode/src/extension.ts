@@ -1,7 +1,9 @@
 // VS Code client for the tvl-lsp language server (TVL feature models and ROS launch files).
 //
 // The server is started as `tvl-lsp` (setting tvl-lsp.server.path, or found on PATH) or as
-// `python -m tvl_lsp` (setting tvl-lsp.server.pythonPath). It speaks LSP on stdio.
+// `python -m tvl_lsp` (setting tvl-lsp.server.pythonPath); with neither, the extension sets it up
+// itself in a private virtual environment from the wheel inside the .vsix (bootstrap.ts). It
+// speaks LSP on stdio.
 // The configurator and the generation of configuration launch files are server commands
 // (workspace/executeCommand); the `tvl.*` commands below ask the user for their arguments.
 import * as cp from 'child_process';
@@ -16,6 +18,7 @@ import {
   ServerOptions,
   State,
 } from 'vscode-languageclient/node';
+import { bundledWheel, ensureServer, readyServer, ServerCommand } from './bootstrap';
 
 import { ConfiguratorPanel } from './configurator';
 
@@ -23,12 +26,6 @@ const SECTION = 'tvl-lsp';
 let client: LanguageClient | undefined;
 let output: vscode.OutputChannel;
 let status: vscode.StatusBarItem;
-
-interface ServerCommand {
-  command: string;
-  args: string[];
-  description: string;
-}
 
 export async function activate(context: vscode.ExtensionContext): Promise<void> {
   output = vscode.window.createOutputChannel('TVL language server');
@@ -94,8 +91,12 @@ function onPath(exe: string): string | undefined {
   return undefined;
 }
 
-/** Work out how to start the server, or explain why it cannot be started. */
-export function serverCommand(): ServerCommand | string {
+/**
+ * How the settings or PATH say to start the server, a message when a setting is wrong, or
+ * undefined when nothing is configured and tvl-lsp is not on PATH (the extension then sets the
+ * server up itself: bundledServer()).
+ */
+export function serverCommand(): ServerCommand | string | undefined {
   const cfg = vscode.workspace.getConfiguration(SECTION);
   const exe = expand(cfg.get<string>('server.path', ''));
   const python = expand(cfg.get<string>('server.pythonPath', ''));
@@ -121,7 +122,70 @@ export function serverCommand(): ServerCommand | string {
   if (found) {
     return { command: found, args: [], description: found };
   }
-  return 'The TVL language server (tvl-lsp) was not found on PATH. Install it ("pip install <path to the tvl-lsp repository>"), then set "tvl-lsp.server.path" to the tvl-lsp executable or "tvl-lsp.server.pythonPath" to a Python interpreter that has it.';
+  return undefined;
+}
+
+export const NOT_FOUND =
+  'The TVL language server (tvl-lsp) was not found on PATH and this build of the extension carries none to set up. Install it ("pip install tvl-lsp" or "pip install <path to the tvl-lsp repository>"), then set "tvl-lsp.server.path" to the tvl-lsp executable or "tvl-lsp.server.pythonPath" to a Python interpreter that has it.';
+
+/** Python interpreters the extension may create its private environment with, in order. */
+export function setupPythonCandidates(): string[] {
+  const own = expand(vscode.workspace.getConfiguration(SECTION).get<string>('server.setupPython', ''));
+  if (own) {
+    return [own]; // the user chose: no guessing
+  }
+  const out: string[] = [];
+  const fromPythonExt = expand(vscode.workspace.getConfiguration('python').get<string>('defaultInterpreterPath', '') ?? '');
+  if (fromPythonExt && fromPythonExt !== 'python') {
+    out.push(fromPythonExt);
+  }
+  const names = process.platform === 'win32' ? ['python3', 'python'] : ['python3.13', 'python3.12', 'python3.11', 'python3.10', 'python3', 'python'];
+  for (const n of names) {
+    const p = onPath(n);
+    if (p) {
+      out.push(p);
+    }
+  }
+  return out;
+}
+
+/** The server the extension sets up itself (bootstrap.ts), with a progress notification. */
+async function bundledServer(context: vscode.ExtensionContext): Promise<ServerCommand | string> {
+  const opts = {
+    extensionDir: context.extensionPath,
+    extensionVersion: String(context.extension?.packageJSON?.version ?? '0'),
+    storageDir: context.globalStorageUri.fsPath,
+  };
+  let ready: ServerCommand | undefined;
+  try {
+    ready = readyServer(opts);
+  } catch (err) {
+    output.appendLine(`Checking the server set up by the extension: ${String(err)}`);
+  }
+  if (ready) {
+    return ready;
+  }
+  if (!bundledWheel(opts.extensionDir)) {
+    return NOT_FOUND;
+  }
+  return vscode.window.withProgress(
+    { location: vscode.ProgressLocation.Notification, title: 'TVL: setting up the tvl-lsp language server', cancellable: false },
+    async (progress) => {
+      try {
+        return await ensureServer({
+          ...opts,
+          pythonCandidates: setupPythonCandidates(),
+          log: (l) => output.appendLine(l),
+          progress: (message) => {
+            output.appendLine(`[setup] ${message}`);
+            progress.report({ message });
+          },
+        });
+      } catch (err) {
+        return `Setting up the TVL language server failed: ${err instanceof Error ? err.message : String(err)}`;
+      }
+    },
+  );
 }
 
 /** The server's settings: everything in the tvl-lsp section but the client-only `server`. */
@@ -135,16 +199,20 @@ export function serverSettings(): Record<string, unknown> {
 }
 
 async function start(context: vscode.ExtensionContext): Promise<void> {
-  const how = serverCommand();
+  const how = serverCommand() ?? (await bundledServer(context));
   if (typeof how === 'string') {
     output.appendLine(how);
     void vscode.commands.executeCommand('setContext', 'tvl-lsp.running', false);
-    const pick = await vscode.window.showErrorMessage(how, 'Open Settings', 'Show Output');
-    if (pick === 'Open Settings') {
-      void vscode.commands.executeCommand('workbench.action.openSettings', 'tvl-lsp.server');
-    } else if (pick === 'Show Output') {
-      output.show();
-    }
+    // not awaited: activation must not wait for the user to answer
+    void vscode.window.showErrorMessage(how, 'Retry', 'Open Settings', 'Show Output').then((pick) => {
+      if (pick === 'Retry') {
+        void restart(context);
+      } else if (pick === 'Open Settings') {
+        void vscode.commands.executeCommand('workbench.action.openSettings', 'tvl-lsp.server');
+      } else if (pick === 'Show Output') {
+        output.show();
+      }
+    });
     return;
   }
   output.appendLine(`Starting ${how.description}`);
