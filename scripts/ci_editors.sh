@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Editor clients in CI: install what they need, build the VS Code extension (.vsix), run the
+# Editor clients in CI: install what they need, build the VS Code extension (.vsix, with the
+# tvl-lsp wheel inside), run the
 # TextMate grammar tests, and install the pinned Neovim and Debian's Emacs + eglot that the
 # end-to-end tests use (tests/test_editors_nvim.py, tests/test_editors_emacs.py: run them with
 # pytest afterwards).
@@ -66,7 +67,8 @@ npm ci --no-audit --no-fund --loglevel=error || die "npm ci failed in editors/vs
 
 step "build and package the extension"
 rm -f tvl-lsp.vsix
-npm run --silent package || die "vsce package failed"
+# the .vsix carries the tvl-lsp wheel (built with $PYTHON's pip) that the extension sets up itself
+TVL_PYTHON="$PYTHON" npm run --silent package || die "vsce package failed"
 [[ -s tvl-lsp.vsix ]] || die "no tvl-lsp.vsix was produced"
 node -e '
   const fs = require("fs");
@@ -74,10 +76,11 @@ node -e '
   const need = ["extension/package.json", "extension/out/extension.js", "extension/syntaxes/tvl.tmLanguage.json",
     "extension/syntaxes/roslaunch.tmLanguage.json", "extension/syntaxes/launch-substitution.injection.tmLanguage.json",
     "extension/language-configuration.json", "extension/launch-language-configuration.json",
-    "extension/out/configurator/app.js", "extension/out/configurator/elk-worker.js"];
+    "extension/out/configurator/app.js", "extension/out/configurator/elk-worker.js",
+    "extension/server/tvl_lsp-", "extension/images/icon.png", "extension/changelog.md", "extension/LICENSE"];
   const missing = need.filter((n) => buf.indexOf(Buffer.from(n)) < 0);
   if (missing.length) { console.error("the .vsix lacks " + missing.join(", ")); process.exit(1); }
-  console.log("tvl-lsp.vsix: " + buf.length + " bytes, contains the grammars and the bundled client");
+  console.log("tvl-lsp.vsix: " + buf.length + " bytes, contains the grammars, the bundled client and the server wheel");
 ' || die "the .vsix is incomplete"
 
 step "client unit tests (node --test: finding the server, messages, settings)"

@@ -52,7 +52,7 @@ CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-backg
 # `pip install` of the bundled wheel: ~15-40 s with a warm pip cache) and to analyse the files.
 FIRST_DIAGNOSTICS_S = 240
 STEP_S = 30
-EDIT_DIAGNOSTIC_S = 5   # "within a few seconds" of typing
+EDIT_DIAGNOSTIC_S = 8   # "within a few seconds" of typing (measured: ~3 s, typing included)
 
 try:
     from playwright.sync_api import Error as PlaywrightError
@@ -73,7 +73,10 @@ def _missing() -> str | None:
     return None
 
 
-pytestmark = [pytest.mark.vscode, pytest.mark.skipif(_missing() is not None, reason=str(_missing()))]
+# TVL_E2E_REQUIRE=1 (as .ci/run sets): a missing piece fails the test instead of skipping it
+REQUIRED = os.environ.get("TVL_E2E_REQUIRE") == "1"
+pytestmark = [pytest.mark.vscode,
+              pytest.mark.skipif(_missing() is not None and not REQUIRED, reason=str(_missing()))]
 
 
 # ---------------------------------------------------------------------------- the session
@@ -114,6 +117,7 @@ class VSCode:
         self.proc = None
         self.pw = self.browser = self.page = None
         self.times: dict[str, float] = {}
+        self.broken = ""
         ARTIFACTS.mkdir(parents=True, exist_ok=True)
 
     # -- setup
@@ -197,10 +201,13 @@ class VSCode:
     @contextlib.contextmanager
     def step(self, name: str):
         """Times a step; on failure saves a screenshot and the server's output into the report."""
+        if self.broken:   # the steps build on each other: do not wait 30 s for each to time out
+            pytest.fail(f"step {name!r} not run: {self.broken}")
         t = time.monotonic()
         try:
             yield
         except BaseException as e:
+            self.broken = f"an earlier step ({name}) failed"
             shot = self.shot(f"{name}-FAILED")
             detail = self.output_text()
             raise AssertionError(f"step {name!r} failed ({e.__class__.__name__}: {e}); screenshot {shot}\n"
@@ -216,6 +223,15 @@ class VSCode:
         if not logs:
             return "(no output channel log found)"
         return "\n".join(logs[-1].read_text(errors="replace").splitlines()[-40:])
+
+    FATAL = ("failed to start", "Server initialization failed", "will not be restarted",
+             "could not create a virtual environment", "could not install its language server",
+             "needs Python", "carries no tvl-lsp", "not found on PATH", "does not start")
+
+    def fatal_output(self) -> list[str]:
+        """Lines of the extension's output that say the server will not run (fail fast on them)."""
+        text = self.output_text()
+        return [l for l in text.splitlines() if any(m in l for m in self.FATAL)]
 
     def command(self, title: str) -> None:
         """Run a command from the palette by its title."""
@@ -249,6 +265,18 @@ class VSCode:
         self.page.keyboard.press("Enter")
         self.page.locator(".quick-input-widget").wait_for(state="hidden")
 
+    def choose_action(self, text: str) -> None:
+        """Pick the code action whose title has ``text`` in the open action widget, by keyboard
+        (the widget's pointer block swallows clicks)."""
+        for _ in range(12):
+            focused = self.page.locator(".action-widget .monaco-list-row.focused")
+            if focused.count() and text in focused.first.inner_text():
+                self.page.keyboard.press("Enter")
+                return
+            self.page.keyboard.press("ArrowDown")
+            time.sleep(0.1)
+        raise AssertionError(f"no code action with {text!r} could be focused")
+
     def problems(self) -> list[str]:
         """The rows of the Problems panel (aria labels: message, source, code, position)."""
         out = []
@@ -258,19 +286,33 @@ class VSCode:
                                                     r.inner_text(timeout=1000).replace("\n", " ")])))
         return out
 
-    def wait_problem(self, pred, timeout_s: float) -> list[str]:
+    def error_toasts(self) -> list[str]:
+        """The error notifications on screen (the extension's "cannot start" messages)."""
+        out = []
+        for t in self.page.locator(".notifications-toasts .notification-list-item").all():
+            with contextlib.suppress(PlaywrightError):
+                if t.locator(".codicon-error").count():
+                    out.append(t.inner_text(timeout=1000).replace("\n", " "))
+        return out
+
+    def wait_problem(self, pred, timeout_s: float, fail_on_error_toast: bool = False) -> list[str]:
         deadline = time.monotonic() + timeout_s
         rows: list[str] = []
         while time.monotonic() < deadline:
             rows = self.problems()
             if any(pred(r) for r in rows):
                 return rows
+            if fail_on_error_toast and (errors := self.error_toasts() + self.fatal_output()):
+                raise AssertionError(f"the extension reports an error instead: {errors}")
             time.sleep(0.2)
-        raise AssertionError(f"no such problem within {timeout_s} s; the Problems panel has: {rows}")
+        raise AssertionError(f"no such problem within {timeout_s} s; the Problems panel has: {rows}; "
+                             f"error notifications: {self.error_toasts()}")
 
 
 @pytest.fixture(scope="module")
 def code(tmp_path_factory):
+    if _missing():
+        pytest.fail(f"TVL_E2E_REQUIRE=1 but {_missing()}")
     vs = VSCode(tmp_path_factory.mktemp("vscode-e2e"))
     try:
         vs.install()
@@ -294,7 +336,8 @@ def test_launch_file_problems_in_the_problems_panel(code):
     with code.step("01-problems"):
         code.open_file(LAUNCH)
         code.command("View: Focus Problems")
-        rows = code.wait_problem(lambda r: "'rate'" in r and "undefined-arg" in r, FIRST_DIAGNOSTICS_S)
+        rows = code.wait_problem(lambda r: "'rate'" in r and "undefined-arg" in r, FIRST_DIAGNOSTICS_S,
+                                 fail_on_error_toast=True)
         assert any("Camera" in r and "missing-arg" in r for r in rows), rows
         # one problem per message, and nothing but what the fixture has (no duplicates)
         assert len([r for r in rows if "undefined-arg" in r]) == 1, rows
@@ -323,9 +366,8 @@ def test_quick_fix_adds_the_missing_arg_and_saves(code):
         code.open_file(LAUNCH)
         code.goto(1, 1)   # missing-arg is reported on <launch>
         code.command("Quick Fix...")
-        action = code.page.locator(".action-widget .monaco-list-row", has_text="Camera").first
-        action.wait_for(state="visible")
-        action.click()
+        code.page.locator(".action-widget .monaco-list-row", has_text="Camera").first.wait_for(state="visible")
+        code.choose_action("Camera")
         code.page.locator(".view-lines", has_text='<arg name="Camera"/>').first.wait_for()
         code.page.keyboard.press("Control+s")
         deadline = time.monotonic() + STEP_S
@@ -350,7 +392,8 @@ def test_generate_configuration_launch_files(code):
         pick.wait_for(state="visible")
         pick.click()
         deadline = time.monotonic() + STEP_S
-        while len(list(out.glob("*.launch"))) < 8 and time.monotonic() < deadline:
+        while not (len(list(out.glob("*.launch"))) == 8 and all("rover.launch" in f.read_text() for f in out.glob("*.launch"))) \
+                and time.monotonic() < deadline:
             time.sleep(0.3)
         files = sorted(out.glob("*.launch"))
         assert len(files) == 8, files   # one per product of rover.tvl
@@ -367,9 +410,8 @@ def test_edit_introducing_an_unknown_feature_is_flagged_within_seconds(code):
         t = time.monotonic()
         code.page.keyboard.type("  Arm -> Gripper;")
         code.page.keyboard.press("Enter")
-        rows = code.wait_problem(lambda r: "Gripper" in r, EDIT_DIAGNOSTIC_S)
+        code.wait_problem(lambda r: "'Gripper'" in r and "unknown-name" in r, EDIT_DIAGNOSTIC_S)
         code.times["edit-to-diagnostic"] = time.monotonic() - t
-        assert any("Gripper" in r and "rover.tvl" in r for r in rows) or any("Gripper" in r for r in rows), rows
 
 
 # ---------------------------------------------------------------------------- configurator

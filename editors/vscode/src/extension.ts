@@ -19,6 +19,8 @@ import {
   State,
 } from 'vscode-languageclient/node';
 import { bundledWheel, ensureServer, readyServer, ServerCommand } from './bootstrap';
+// for the unit tests (test/unit), which load the bundle
+export { bundledWheel, environmentKey, ensureServer, findPython, readyServer } from './bootstrap';
 
 import { ConfiguratorPanel } from './configurator';
 
@@ -424,9 +426,29 @@ async function generate(): Promise<void> {
   if (folder) {
     opts.folder = folder;
   }
-  const r = await exec<{ files?: string[]; truncated?: boolean }>('tvl-lsp.generateConfigurations', [opts]);
+  const r = await exec<{ files?: string[]; truncated?: boolean; applied?: boolean; message?: string }>(
+    'tvl-lsp.generateConfigurations',
+    [opts],
+  );
   if (!r || !r.files) {
     return;
+  }
+  if (!r.files.length && r.message) {
+    void vscode.window.showInformationMessage(`TVL: ${r.message}`);
+    return;
+  }
+  // The server creates the files through a workspace edit: VS Code then holds their text in
+  // unsaved editors. Generating means writing them, so save each one.
+  const unsaved: string[] = [];
+  for (const f of r.files) {
+    const target = f.includes('://') ? vscode.Uri.parse(f) : vscode.Uri.file(f);
+    const doc = vscode.workspace.textDocuments.find((d) => d.uri.toString() === target.toString());
+    if (doc?.isDirty && !(await doc.save())) {
+      unsaved.push(path.basename(target.fsPath));
+    }
+  }
+  if (unsaved.length) {
+    void vscode.window.showWarningMessage(`TVL: could not save ${unsaved.join(', ')}`);
   }
   const pick = await vscode.window.showInformationMessage(
     `Generated ${r.files.length} configuration launch file(s)${r.truncated ? ' (limit reached)' : ''}.`,

@@ -35,13 +35,26 @@ test('a missing server.path is reported, with the path, and no client starts', a
   }
 });
 
-test('no setting and nothing on PATH: the message says how to install and configure', () => {
+test('no setting and nothing on PATH: the extension sets the server up itself (serverCommand is undefined)', () => {
   const { ext } = loadExtension(bundle, {});
   const how = withPath([fs.mkdtempSync(path.join(os.tmpdir(), 'empty-'))], () => ext.serverCommand());
-  assert.strictEqual(typeof how, 'string');
-  assert.match(how, /not found on PATH/);
-  assert.match(how, /tvl-lsp\.server\.path/);
-  assert.match(how, /tvl-lsp\.server\.pythonPath/);
+  assert.strictEqual(how, undefined);
+});
+
+test('nothing configured and no wheel in the extension: the message says how to install and configure', async () => {
+  const { ext, shown } = loadExtension(bundle, {});
+  const ctx = {
+    subscriptions: [],
+    extensionPath: fs.mkdtempSync(path.join(os.tmpdir(), 'ext-')),
+    globalStorageUri: { fsPath: fs.mkdtempSync(path.join(os.tmpdir(), 'storage-')) },
+    extension: { packageJSON: { version: '0.1.0' } },
+  };
+  await withPath([fs.mkdtempSync(path.join(os.tmpdir(), 'empty-'))], () => ext.activate(ctx));
+  assert.strictEqual(shown.errors.length, 1);
+  assert.match(shown.errors[0], /not found on PATH/);
+  assert.match(shown.errors[0], /tvl-lsp\.server\.path/);
+  assert.match(shown.errors[0], /tvl-lsp\.server\.pythonPath/);
+  assert.strictEqual(shown.context['tvl-lsp.running'], false);
 });
 
 test('tvl-lsp on PATH is used', () => {
