@@ -231,7 +231,11 @@ class VSCode:
     def fatal_output(self) -> list[str]:
         """Lines of the extension's output that say the server will not run (fail fast on them)."""
         text = self.output_text()
-        return [l for l in text.splitlines() if any(m in l for m in self.FATAL)]
+        out = [l for l in text.splitlines() if any(m in l for m in self.FATAL)]
+        for log in self.user.glob("logs/*/exthost*/*exthost.log"):   # activation failures
+            out += [l for l in log.read_text(errors="replace").splitlines()
+                    if "Activating extension" in l and "tvl-lsp" in l and "failed" in l]
+        return out
 
     def command(self, title: str) -> None:
         """Run a command from the palette by its title."""

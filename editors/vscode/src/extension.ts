@@ -128,7 +128,7 @@ export function serverCommand(): ServerCommand | string | undefined {
 }
 
 export const NOT_FOUND =
-  'The TVL language server (tvl-lsp) was not found on PATH and this build of the extension carries none to set up. Install it ("pip install tvl-lsp" or "pip install <path to the tvl-lsp repository>"), then set "tvl-lsp.server.path" to the tvl-lsp executable or "tvl-lsp.server.pythonPath" to a Python interpreter that has it.';
+  'The TVL language server (tvl-lsp) was not found on PATH and this build of the extension carries none to set up. Install it ("pip install <path to the tvl-lsp repository>"), then set "tvl-lsp.server.path" to the tvl-lsp executable or "tvl-lsp.server.pythonPath" to a Python interpreter that has it.';
 
 /** Python interpreters the extension may create its private environment with, in order. */
 export function setupPythonCandidates(): string[] {
