@@ -7,6 +7,7 @@ alone/: a launch file without a model (its top-level args are free booleans).
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -236,3 +237,39 @@ def test_missing_arg_points_at_a_feature_arg_hidden_in_a_group(tmp_path):
     (d,) = check_paths([str(tmp_path)], jobs=1)
     assert d.code == "missing-arg" and d.data == {"feature": "A"}
     assert "on line 4 is inside <group>" in d.message
+
+
+def test_each_undeclared_arg_of_a_value_is_its_own_problem(tmp_path):
+    """`$(arg cam) $(arg rate)` with neither declared: roslaunch stops at cam, but rate is just as
+    undeclared -- two problems, each about one arg, not one message chaining both."""
+    (tmp_path / "bot.tvl").write_text("root Bot {\n  group allOf {\n    opt Cam\n  }\n}\n")
+    lf = tmp_path / "bot.launch"
+    lf.write_text('<launch>\n  <arg name="Bot"/>\n  <arg name="Cam"/>\n'
+                  '  <param name="p" value="$(arg cam) $(arg rate)" if="$(arg Cam)"/>\n</launch>\n')
+    ds = [d for d in check_paths([str(tmp_path)], jobs=1) if d.code == "undefined-arg"]
+    text = lf.read_text().splitlines()[3]
+    by_arg = {d.data["arg"]: d for d in ds}
+    assert sorted(by_arg) == ["cam", "rate"], [d.message for d in ds]
+    for name, d in by_arg.items():
+        assert text[d.span.start.col:d.span.end.col] == f"$(arg {name})"
+        assert "either" not in d.message and "in the same value" not in d.message and d.message.count("arg to be set") == 1
+        assert d.message.startswith(f"bot.launch requires the '{name}' arg to be set")
+        assert _product(d.witness) == {"Bot", "Cam"}
+    assert "did you mean `Cam`?" in by_arg["cam"].message
+    (rel,) = by_arg["rate"].related
+    assert rel.span == by_arg["cam"].span and "roslaunch stops earlier" in rel.message
+
+
+def test_related_information_names_files_relative_to_the_workspace(tmp_path):
+    """The pairing note in a problem's related information reads as the Problems panel shows
+    paths: relative to the workspace root, not absolute."""
+    import shutil
+    ws = tmp_path / "ws"
+    shutil.copytree(PAIRS / "ws", ws)
+    lf = ws / "src/bot/launch/generic.launch"
+    lf.write_text(lf.read_text().replace('  <arg name="Autonomy"/>\n', ""))
+    (d,) = [d for d in check_paths([str(ws)], jobs=1) if d.code == "missing-arg"]
+    notes = [r.message for r in d.related if r.message.startswith("paired with")]
+    assert notes == [f"paired with {os.path.join('src', 'bot', 'models', 'rover.tvl')} by a HAROS project file "
+                     f"(haros_bot.yaml:{d.related[-1].span.start})"], notes
+    assert not any(str(tmp_path) in r.message for r in d.related)

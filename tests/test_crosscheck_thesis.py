@@ -74,6 +74,7 @@ def test_exactly_the_real_cross_file_problems(diags, rel):
     got = sorted((rel(d), d.span.start.line + 1, d.code) for d in diags if d.code in CROSS)
     assert got == sorted([
         (LIZI, 74, "undefined-arg"),
+        (LIZI, 74, "undefined-arg"),
         (TB, 24, "constant-condition"),
         (TB, 32, "constant-condition"),
         (TB, 33, "constant-condition"),
@@ -83,13 +84,15 @@ def test_exactly_the_real_cross_file_problems(diags, rel):
 
 
 def test_lizi_undefined_depth_cam_with_witness(diags):
-    (d,) = [d for d in diags if d.code == "undefined-arg"]
+    d, cam = sorted((d for d in diags if d.code == "undefined-arg"), key=lambda d: d.span.start.col)
     assert _text(d) == "$(arg depth_cam)"
     assert "`Depth_cam`" in d.message            # the close name is suggested
     assert len(d.witness) == 16                  # every feature of the lizi model
     assert {k for k, v in d.witness.items() if v} == {"Lizi", "Gazebo"}
-    # roslaunch stops at depth_cam; cam, in the same value, is undeclared too: the message says so
-    assert "`$(arg cam)` in the same value is not declared either (did you mean `Cam`?)" in d.message
+    # roslaunch stops at depth_cam; cam, in the same value, is undeclared too: its own problem
+    assert _text(cam) == "$(arg cam)" and "'cam' is not declared" in cam.message
+    assert "did you mean `Cam`?" in cam.message and "depth_cam" not in cam.message
+    assert cam.witness == d.witness and cam.related[0].span == d.span
 
 
 def test_turtlebot_battery_is_never_set(diags, rel):

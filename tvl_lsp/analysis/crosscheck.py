@@ -225,9 +225,9 @@ def _when(cond: fm.Formula, witness: dict[str, bool]) -> str:
 def _undeclared_after_first(launch, known: set[str]) -> dict:
     """``$(arg a) $(arg b)`` with neither declared: roslaunch stops at ``a`` (and the launch
     front end, like it, reports only ``a``), but ``b`` is just as undeclared.  Returns
-    span of the reported ``$(arg a)`` -> the later undeclared names of the same value, for args
-    this file declares nowhere and that are not features / free args (the only args a command
-    line sets in a product), so that the message of ``a`` can name them."""
+    span of the reported ``$(arg a)`` -> [(name, span)] of the later undeclared ``$(arg b)`` of
+    the same value, for args this file declares nowhere and that are not features / free args
+    (the only args a command line sets in a product), so that each gets its own problem."""
     out: dict = {}
     reported = [f for f in launch.facts if f.code in ("undefined-arg", "unset-arg") and f.path == launch.path]
     if not reported:
@@ -241,11 +241,11 @@ def _undeclared_after_first(launch, known: set[str]) -> dict:
             if not firsts:
                 continue
             first = min(firsts, key=lambda f: f.span.start)
-            later = [x.args[0] for x in subs if x.span.start > first.span.start and x.args[0] not in known
+            later = [(x.args[0], x.span) for x in subs if x.span.start > first.span.start and x.args[0] not in known
                      and "$" not in x.args[0] and not any(f.span == x.span for f in reported)]
             if later:
-                out.setdefault(first.span, [])
-                out[first.span] += [n for n in later if n not in out[first.span]]
+                got = out.setdefault(first.span, [])
+                got += [(n, sp) for n, sp in later if n not in {g for g, _ in got}]
     return out
 
 
@@ -330,11 +330,19 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
                     msg += f"; did you mean `{sug}`?"
                     data["suggestion"] = sug
                 data["arg"] = name
-            for other in also_undeclared.get(fact.span, []) if fact.path == launch.path else []:
-                sug2 = _closest(other, [n for n in known if n != other])
-                msg += (f"; `$(arg {other})` in the same value is not declared either"
-                        + (f" (did you mean `{sug2}`?)" if sug2 else "")
-                        + ": roslaunch stops at the first")
+                # the later undeclared args of the same value: one problem each (roslaunch
+                # itself stops at this first one, which the related information says)
+                for other, other_span in also_undeclared.get(fact.span, []) if fact.path == launch.path else []:
+                    sug2 = _closest(other, [n for n in known if n != other])
+                    out.append(Diagnostic(
+                        fact.code, fact.severity, fact.path, other_span,
+                        f"{os.path.basename(launch.path)} requires the '{other}' arg to be set: "
+                        f"'{other}' is not declared in this scope"
+                        + (f"; did you mean `{sug2}`?" if sug2 else "") + _when(fact.condition, w),
+                        related=[Related(fact.path, fact.span,
+                                         f"roslaunch stops earlier in this value, at `$(arg {name})`")],
+                        witness=w, data={"condition": str(fact.condition), "arg": other,
+                                         **({"suggestion": sug2} if sug2 else {})}))
         path, span = fact.path, fact.span
         if path != launch.path:
             # an error inside an included file, for the args this file passes: reported on the

@@ -170,7 +170,7 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
             if info is not None:
                 cur = cross_check(la, info.model, info.analysis.encoding, launch_text=text, model_path=p.model,
                                   analysis=info.analysis)
-                out += [_note_pairing(d, p) for d in cur]
+                out += [_note_pairing(d, p, root or os.path.dirname(path)) for d in cur]
             else:
                 out += cross_check(la, None, None, launch_text=text)
         except Exception as exc:
@@ -264,13 +264,14 @@ def free_top_args(text: str, path: str) -> list[str]:
     return [n for n in dict.fromkeys(names) if n not in used_as_string]
 
 
-def _note_pairing(d: Diagnostic, p: Pairing) -> Diagnostic:
-    """Cross-check diagnostics say which pairing they come from (related: the pairing)."""
+def _note_pairing(d: Diagnostic, p: Pairing, root: str) -> Diagnostic:
+    """Cross-check diagnostics say which pairing they come from (related: the pairing, its
+    paths relative to the workspace root, as the Problems panel shows them)."""
     if d.witness is None and d.code not in ("missing-arg", "unmatched-arg", "dead-element", "constant-condition"):
         return d
     if p.source_path and p.source_span and not any(r.path == p.source_path and r.span == p.source_span
                                                     for r in d.related):
-        d.related = list(d.related) + [Related(p.source_path, p.source_span, p.describe())]
+        d.related = list(d.related) + [Related(p.source_path, p.source_span, p.describe(root))]
     return d
 
 
