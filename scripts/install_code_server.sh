@@ -55,6 +55,12 @@ if ((${#missing[@]})); then
 fi
 RG="$(command -v rg)" || die "ripgrep (rg) is not installed"
 
+# node-gyp would download Node's headers from nodejs.org: use the ones Debian's nodejs installs
+if [[ -z "${npm_config_nodedir:-}" && -z "$(npm config get nodedir 2>/dev/null | grep -v '^undefined$')" \
+      && -f /usr/include/node/common.gypi ]]; then
+  export npm_config_nodedir=/usr
+fi
+
 mkdir -p "$CACHE"
 BUILD="$(mktemp -d "$CACHE/.build-code-server-XXXXXX")"
 trap 'rm -rf "$BUILD"' EXIT

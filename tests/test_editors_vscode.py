@@ -51,6 +51,7 @@ CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-backg
 # How long a step may take. The first waits for the extension to set up its server (a venv and
 # `pip install` of the bundled wheel: ~15-40 s with a warm pip cache) and to analyse the files.
 FIRST_DIAGNOSTICS_S = 240
+SERVER_S = 60           # from the server's start to the first diagnostics
 STEP_S = 30
 EDIT_DIAGNOSTIC_S = 8   # "within a few seconds" of typing (measured: ~3 s, typing included)
 
@@ -290,6 +291,18 @@ class VSCode:
                                                     r.inner_text(timeout=1000).replace("\n", " ")])))
         return out
 
+    def wait_output(self, needle: str, timeout_s: float) -> str:
+        """Wait for ``needle`` in the extension's output channel, failing at once on a fatal line."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            text = self.output_text()
+            if needle in text:
+                return text
+            if errors := self.error_toasts() + self.fatal_output():
+                raise AssertionError(f"the extension reports an error instead: {errors}")
+            time.sleep(0.5)
+        raise AssertionError(f"{needle!r} not in the extension's output within {timeout_s} s:\n{self.output_text()}")
+
     def error_toasts(self) -> list[str]:
         """The error notifications on screen (the extension's "cannot start" messages)."""
         out = []
@@ -336,17 +349,26 @@ MODEL = "src/rover/launch/rover.tvl"
 
 def test_launch_file_problems_in_the_problems_panel(code):
     """The extension set its server up with nothing configured, and the launch file's problems
-    are in the Problems panel: the undefined `rate` arg (error) and the feature with no <arg>."""
+    are in the Problems panel as a user reads them: the two undeclared args of one value, one
+    problem each, and the feature with no <arg>, with related information relative to the
+    workspace (the pairing by haros.yaml)."""
     with code.step("01-problems"):
         code.open_file(LAUNCH)
         code.command("View: Focus Problems")
-        rows = code.wait_problem(lambda r: "'rate'" in r and "undefined-arg" in r, FIRST_DIAGNOSTICS_S,
+        code.wait_output("Starting ", FIRST_DIAGNOSTICS_S)   # set up (venv + pip) and started
+        rows = code.wait_problem(lambda r: "'rate'" in r and "undefined-arg" in r, SERVER_S,
                                  fail_on_error_toast=True)
+        rows = code.wait_problem(lambda r: "'hz'" in r and "undefined-arg" in r, STEP_S)
+        undefined = [r for r in rows if "undefined-arg" in r]
+        assert len(undefined) == 2, rows   # one problem per undeclared arg, no duplicates
+        assert not any("either" in r or "same value" in r for r in undefined), undefined
+        assert [r for r in undefined if "'hz'" in r and "'rate' arg" not in r], undefined
         assert any("Camera" in r and "missing-arg" in r for r in rows), rows
-        # one problem per message, and nothing but what the fixture has (no duplicates)
-        assert len([r for r in rows if "undefined-arg" in r]) == 1, rows
+        notes = [r for r in rows if "paired with" in r]
+        assert notes and all("src/rover/launch/rover.tvl" in r for r in notes), rows
+        assert not any(str(code.ws) in r for r in rows), rows   # no absolute paths
     setup = code.output_text()
-    assert "set up by the extension" in setup or "tvl-lsp is set up in" in setup, setup
+    assert "tvl-lsp is set up in" in setup and "(set up by the extension)" in setup, setup
 
 
 def test_hover_shows_the_product_count(code):
@@ -361,6 +383,7 @@ def test_hover_shows_the_product_count(code):
             time.sleep(0.3)
         text = hover.inner_text()
         assert "4 of 8 products" in text and "50" in text, text
+        time.sleep(0.5)   # let the hover finish fading in before the step's screenshot
 
 
 def test_quick_fix_adds_the_missing_arg_and_saves(code):
