@@ -234,7 +234,8 @@ class VSCode:
         text = self.output_text()
         out = [l for l in text.splitlines() if any(m in l for m in self.FATAL)]
         for log in self.user.glob("logs/*/exthost*/*exthost.log"):   # activation failures
-            out += [l for l in log.read_text(errors="replace").splitlines()
+            lines = log.read_text(errors="replace").splitlines()
+            out += [" ".join(lines[i:i + 2]) for i, l in enumerate(lines)
                     if "Activating extension" in l and "tvl-lsp" in l and "failed" in l]
         return out
 
