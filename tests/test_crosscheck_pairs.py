@@ -256,6 +256,7 @@ def test_each_undeclared_arg_of_a_value_is_its_own_problem(tmp_path):
         assert d.message.startswith(f"bot.launch requires the '{name}' arg to be set")
         assert _product(d.witness) == {"Bot", "Cam"}
     assert "did you mean `Cam`?" in by_arg["cam"].message
+    assert by_arg["rate"].data["stops_at"] == "cam" and "stops_at" not in by_arg["cam"].data
     (rel,) = by_arg["rate"].related
     assert rel.span == by_arg["cam"].span and "roslaunch stops earlier" in rel.message
 

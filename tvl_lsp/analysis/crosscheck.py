@@ -341,7 +341,7 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
                         + (f"; did you mean `{sug2}`?" if sug2 else "") + _when(fact.condition, w),
                         related=[Related(fact.path, fact.span,
                                          f"roslaunch stops earlier in this value, at `$(arg {name})`")],
-                        witness=w, data={"condition": str(fact.condition), "arg": other,
+                        witness=w, data={"condition": str(fact.condition), "arg": other, "stops_at": name,
                                          **({"suggestion": sug2} if sug2 else {})}))
         path, span = fact.path, fact.span
         if path != launch.path:
