@@ -176,11 +176,11 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
         except Exception as exc:
             out.append(_internal(path, f"cross-check failed: {exc!r}"))
         if hints:
-            out += _graph_findings(la, hints, configs, info, features, p)
+            out += _graph_findings(la, hints, configs, info, features, p, root or os.path.dirname(path))
     return out
 
 
-def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing) -> list[Diagnostic]:
+def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing, root: str) -> list[Diagnostic]:
     """The computation graph's checks (tvl_lsp.graph.checks) of one pairing."""
     from ..graph import GraphLogic, build_graph, graph_diagnostics
     try:
@@ -190,7 +190,7 @@ def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing) -
         enc = info.analysis.encoding if info is not None else None
         with GraphLogic(enc, features, info.analysis if info is not None else None) as logic:
             found = graph_diagnostics(g, logic, la)
-        return [_note_pairing(d, p) for d in found] if info is not None else found
+        return [_note_pairing(d, p, root) for d in found] if info is not None else found
     except Exception as exc:
         return [_internal(la.path, f"graph check failed: {exc!r}")]
 
