@@ -104,8 +104,9 @@ def _clean_env(home: Path) -> dict:
 class VSCode:
     """code-server with the extension installed, a workspace copy open in chromium."""
 
-    def __init__(self, root: Path):
+    def __init__(self, root: Path, settings: dict | None = None):
         self.root = root
+        self.extra_settings = settings or {}
         self.ws = root / "ws"
         shutil.copytree(WS_FIXTURE, self.ws)
         for p in [self.ws, *self.ws.rglob("*")]:
@@ -119,6 +120,7 @@ class VSCode:
         self.pw = self.browser = self.page = None
         self.times: dict[str, float] = {}
         self.broken = ""
+        self.toasts_seen: set[str] = set()
         ARTIFACTS.mkdir(parents=True, exist_ok=True)
 
     # -- setup
@@ -144,6 +146,7 @@ class VSCode:
             "files.autoSave": "off",
             "chat.disableAIFeatures": True,
             "workbench.enableExperiments": False,
+            **self.extra_settings,
         }, indent=2))
 
     def start(self) -> None:
@@ -297,12 +300,20 @@ class VSCode:
         deadline = time.monotonic() + timeout_s
         while time.monotonic() < deadline:
             text = self.output_text()
+            self.toasts_seen.update(self.toasts())
             if needle in text:
                 return text
             if errors := self.error_toasts() + self.fatal_output():
                 raise AssertionError(f"the extension reports an error instead: {errors}")
             time.sleep(0.5)
         raise AssertionError(f"{needle!r} not in the extension's output within {timeout_s} s:\n{self.output_text()}")
+
+    def toasts(self) -> list[str]:
+        out = []
+        for t in self.page.locator(".notifications-toasts .notification-list-item").all():
+            with contextlib.suppress(PlaywrightError):
+                out.append(t.inner_text(timeout=1000).replace("\n", " "))
+        return out
 
     def error_toasts(self) -> list[str]:
         """The error notifications on screen (the extension's "cannot start" messages)."""
@@ -370,6 +381,8 @@ def test_launch_file_problems_in_the_problems_panel(code):
         assert not any(str(code.ws) in r for r in rows), rows   # no absolute paths
     setup = code.output_text()
     assert "tvl-lsp is set up in" in setup and "(set up by the extension)" in setup, setup
+    # the set-up showed its progress in a notification
+    assert any("setting up the tvl-lsp language server" in t for t in code.toasts_seen), code.toasts_seen
 
 
 def test_hover_shows_the_product_count(code):
@@ -460,3 +473,32 @@ def _configurator_command() -> str | None:
 def test_configurator_opens_and_answers_a_click(code):
     pytest.fail(f"the extension contributes {_configurator_command()}: write the configurator check here "
                 "(open it, wait for the webview, click a feature, see the count change)")
+
+
+# ---------------------------------------------------------------------------- no suitable Python
+# A second, short session: the only Python the extension may use is too old. It must say so
+# clearly (and not hang or fail silently).
+
+def test_no_suitable_python_is_said_clearly(tmp_path):
+    if _missing():
+        pytest.fail(f"TVL_E2E_REQUIRE=1 but {_missing()}")
+    fake = tmp_path / "py38" / "python3.8"
+    fake.parent.mkdir()
+    fake.write_text("#!/bin/sh\necho '{\"version\": [3, 8, 10], \"venv\": true, \"executable\": \"/x\"}'\n")
+    fake.chmod(0o755)
+    vs = VSCode(tmp_path / "session", settings={"tvl-lsp.server.setupPython": str(fake)})
+    try:
+        vs.install()
+        vs.start()
+        with vs.step("06-no-python"):
+            vs.open_file(LAUNCH)
+            deadline = time.monotonic() + 90
+            errors: list[str] = []
+            while time.monotonic() < deadline and not errors:
+                errors = [t for t in vs.error_toasts() if "Python 3.10 or newer" in t]
+                time.sleep(0.3)
+            assert errors, vs.toasts()
+            assert "python3.8 is Python 3.8.10" in errors[0] and "tvl-lsp.server.setupPython" in errors[0], errors
+            assert not list((vs.user / "User" / "globalStorage").glob("*/server/*/bin/python"))
+    finally:
+        vs.stop()
