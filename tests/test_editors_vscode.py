@@ -8,7 +8,8 @@ tvl-lsp NOT on PATH -- so the extension must set its server up itself (the wheel
 The checks, in order: the launch file's problems in the Problems panel; a hover with a product
 count; the quick fix that adds the missing <arg> applied and saved to disk; "TVL: Generate
 configuration launch files" writing files; an edit that introduces an unknown feature giving a
-diagnostic within seconds. Each step saves a screenshot (TVL_E2E_ARTIFACTS, default
+diagnostic within seconds; then, in a second session whose only Python is 3.8, the clear
+"needs Python 3.10 or newer" message. Each step saves a screenshot (TVL_E2E_ARTIFACTS, default
 .e2e-artifacts/vscode/ in the repository); a failing step's screenshot ends in -FAILED.png.
 
 Opt-in (marker ``vscode``, left out of the default run). Install and run:
