@@ -5,7 +5,7 @@
 
 ;;; EXPECTATIONS (tune here)
 (defconst e2e-launch "src/scout/launch/generic.launch")
-(defconst e2e-expected-diagnostics '(("undefined-arg" 61 "stereo_cam"))) ; (code line substring)
+(defconst e2e-expected-diagnostics '(("undefined-arg" 61 "stereo_cam") ("undefined-arg" 61 "'webcam'"))) ; (code line substring)
 (defconst e2e-hover '(8 "Simulation" "384 of 1152"))                     ; (line word substring)
 (defconst e2e-remove-arg "Map")                                        ; delete its <arg>, apply the fix
 (defconst e2e-inserted-line "  <arg name=\"Map\"/>")

@@ -17,6 +17,8 @@ local LAUNCH = 'src/scout/launch/generic.launch' -- relative to the workspace
 local EXPECTED_DIAGNOSTICS = {
   -- `$(arg stereo_cam)` in the Simulation branch: no such arg (the feature is Stereo_cam)
   { code = 'undefined-arg', line = 61, contains = 'stereo_cam' },
+  -- `$(arg webcam)` in the same value: undeclared too, its own diagnostic
+  { code = 'undefined-arg', line = 61, contains = "'webcam'" },
 }
 -- Hover on a feature arg: where, and what the text must contain.
 local HOVER_LINE, HOVER_WORD = 8, 'Simulation' -- <arg name="Simulation" doc="..."/>
