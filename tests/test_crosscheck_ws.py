@@ -81,6 +81,7 @@ def test_exactly_the_real_cross_file_problems(diags, rel):
     got = sorted((rel(d), d.span.start.line + 1, d.code) for d in diags if d.code in CROSS)
     assert got == sorted([
         (SCOUT, 61, "undefined-arg"),
+        (SCOUT, 61, "undefined-arg"),
         (CB, 25, "constant-condition"),
         (CB, 33, "constant-condition"),
         (CB, 34, "constant-condition"),
@@ -102,13 +103,16 @@ def test_everything_reported(diags, rel):
 
 
 def test_scout_undefined_stereo_cam_with_witness(diags):
-    (d,) = [d for d in diags if d.code == "undefined-arg"]
+    d, webcam = sorted((d for d in diags if d.code == "undefined-arg"), key=lambda d: d.span.start.col)
     assert _text(d) == "$(arg stereo_cam)"
     assert "`Stereo_cam`" in d.message          # the close name is suggested
     assert len(d.witness) == 15                 # every feature of the scout model
     assert {k for k, v in d.witness.items() if v} == {"Scout", "Simulation"}
-    # roslaunch stops at stereo_cam; webcam, in the same value, is undeclared too: the message says so
-    assert "`$(arg webcam)` in the same value is not declared either (did you mean `Webcam`?)" in d.message
+    # roslaunch stops at stereo_cam; webcam, in the same value, is undeclared too: its own problem
+    assert _text(webcam) == "$(arg webcam)" and "'webcam' is not declared" in webcam.message
+    assert "did you mean `Webcam`?" in webcam.message and "stereo_cam" not in webcam.message
+    assert webcam.witness == d.witness and webcam.data["stops_at"] == "stereo_cam"
+    assert webcam.related[0].span == d.span
 
 
 def test_crawler_battery_is_never_set(diags, rel):
