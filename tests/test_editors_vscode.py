@@ -467,9 +467,7 @@ def test_edit_introducing_an_unknown_feature_is_flagged_within_seconds(code):
 # ---------------------------------------------------------------------------- configurator
 # The configurator webview (issue #18) is checked here once the extension has it: open it from
 # the palette, wait for its webview iframe, click a feature, and assert that the product count it
-# shows changes (e.g. 8 -> 4 for "include Lidar" on tests/data/vscode/ws). Until a configurator
-# command is contributed there is nothing to check (no test); once it is, this test appears and
-# fails until it is written.
+# shows changes: 8 -> 4 products for "include Lidar" on tests/data/vscode/ws.
 
 def _configurator_command() -> str | None:
     pkg = json.loads((REPO / "editors" / "vscode" / "package.json").read_text())
@@ -479,10 +477,24 @@ def _configurator_command() -> str | None:
     return None
 
 
-if _configurator_command() is not None:
-    def test_configurator_opens_and_answers_a_click(code):
-        pytest.fail(f"the extension contributes {_configurator_command()}: write the configurator check here "
-                    "(open it, wait for the webview, click a feature, see the count change)")
+def test_configurator_opens_and_answers_a_click(code):
+    assert _configurator_command() == "tvl.openConfigurator"
+    with code.step("07-configurator"):
+        code.open_file(MODEL)
+        code.command("File: Revert File")      # undo step 05's unknown feature
+        code.command("TVL: Open configurator")   # for the active file: the model
+        ui = code.page.frame_locator("iframe.webview").frame_locator("#active-frame")
+        remaining = ui.locator("#remaining")
+        remaining.wait_for(state="attached", timeout=60_000)
+        deadline = time.monotonic() + 60
+        while remaining.get_attribute("data-remaining") != "8" and time.monotonic() < deadline:
+            time.sleep(0.3)
+        assert remaining.get_attribute("data-remaining") == "8", remaining.get_attribute("data-remaining")
+        ui.locator('g.feature[data-feature="Lidar"] .btn-include').click()
+        deadline = time.monotonic() + STEP_S
+        while remaining.get_attribute("data-remaining") != "4" and time.monotonic() < deadline:
+            time.sleep(0.3)
+        assert remaining.get_attribute("data-remaining") == "4", remaining.get_attribute("data-remaining")
 
 
 # ---------------------------------------------------------------------------- no suitable Python
