@@ -24,7 +24,7 @@ def test_service_counts_equal_projected_counts(corpus_dir, tmp_path, monkeypatch
     monkeypatch.setenv("TVL_LSP_CACHE_DIR", str(tmp_path / "cache"))
     files = sorted(corpus_dir.rglob("*.tvl"))
     assert files
-    checked = 0
+    checked = timeouts = 0
     for p in files:
         res = parse_model(p.read_text(encoding="utf-8", errors="replace"), str(p))
         if res.errors or res.model is None or res.model.root is None:
@@ -33,6 +33,7 @@ def test_service_counts_equal_projected_counts(corpus_dir, tmp_path, monkeypatch
         try:
             want = a.counter._pyganak([], 60, None)
         except CountTimeout:
+            timeouts += 1
             continue
         c = a.count_result(timeout=120)
         assert c.value == want, (p, c.engine)
@@ -43,4 +44,7 @@ def test_service_counts_equal_projected_counts(corpus_dir, tmp_path, monkeypatch
                 assert per[n] == a.counter._pyganak([a.encoding.var(n)], 60, None), (p, n)
         checked += 1
         S.MEMORY.clear()
-    assert checked >= 50
+    # 48 of the corpus's 95 models read without errors (the others are the reference parser's
+    # negative tests); drupal's is beyond pyganak's minute.  A few more may time out on a slow
+    # machine, but most must be compared.
+    assert checked >= 40 and timeouts <= 5, (checked, timeouts)
