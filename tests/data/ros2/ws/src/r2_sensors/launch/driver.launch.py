@@ -1,0 +1,7 @@
+# A Python launch file: tvl-lsp never executes it (it is code).
+from launch import LaunchDescription
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    return LaunchDescription([Node(package='r2_sensors', executable='driver', name='driver')])

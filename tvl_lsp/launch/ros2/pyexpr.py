@@ -1,0 +1,168 @@
+"""``$(eval EXPR)`` of ROS 2 launch: Python's ``eval`` with the ``math`` module's names, evaluated
+here without running any code.
+
+launch evaluates the expanded text with ``eval(text, {}, vars(math))``: builtins and math
+functions are available, and a name that is neither (``true`` from ``$(var flag)``) raises
+``NameError: name 'true' is not defined``.  This module parses the text with Python's own
+parser (so syntax errors read exactly as launch's) and interprets a safe subset: literals,
+names, arithmetic, comparisons, ``and``/``or``/``not``, conditional expressions, subscripts,
+a few builtins and string methods.  Anything else raises :class:`NotAnalysable` (the caller
+then treats the value as unknown) -- nothing is ever executed.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+import operator
+
+
+class NotAnalysable(Exception):
+    pass
+
+
+class EvalFailure(Exception):
+    """What Python's eval would raise: ``kind`` (e.g. NameError) and its message."""
+
+    def __init__(self, kind: str, message: str):
+        super().__init__(message)
+        self.kind = kind
+        self.message = message
+
+
+_MATH = {k: v for k, v in vars(math).items() if not k.startswith("_")}
+_BUILTINS = {"int": int, "float": float, "str": str, "bool": bool, "len": len, "abs": abs, "min": min,
+             "max": max, "round": round, "sum": sum, "list": list, "tuple": tuple, "sorted": sorted,
+             "any": any, "all": all, "True": True, "False": False, "None": None}
+_STR_METHODS = {"lower", "upper", "strip", "lstrip", "rstrip", "startswith", "endswith", "split", "replace",
+                "join", "format", "find", "count", "isdigit", "title", "capitalize"}
+_BIN = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
+        ast.FloorDiv: operator.floordiv, ast.Mod: operator.mod, ast.Pow: operator.pow}
+_CMP = {ast.Eq: operator.eq, ast.NotEq: operator.ne, ast.Lt: operator.lt, ast.LtE: operator.le,
+        ast.Gt: operator.gt, ast.GtE: operator.ge, ast.In: lambda a, b: a in b,
+        ast.NotIn: lambda a, b: a not in b, ast.Is: operator.is_, ast.IsNot: operator.is_not}
+
+
+def evaluate(text: str, modules: tuple[str, ...] = ("math",)) -> str:
+    """``str(eval(text, {}, locals))`` as launch computes it, or EvalFailure / NotAnalysable."""
+    if len(text) > 10_000:
+        raise NotAnalysable()
+    try:
+        tree = compile(text, "<string>", "eval", ast.PyCF_ONLY_AST, dont_inherit=True)
+    except SyntaxError as e:
+        raise EvalFailure("SyntaxError", str(e))
+    except (ValueError, MemoryError, RecursionError) as e:
+        raise EvalFailure(type(e).__name__, str(e))
+    names = dict(_BUILTINS)
+    if "math" in modules:
+        names.update(_MATH)
+        names["math"] = math
+    elif modules:
+        raise NotAnalysable()
+    try:
+        return str(_Eval(names).ev(tree))
+    except (EvalFailure, NotAnalysable):
+        raise
+    except RecursionError:
+        raise NotAnalysable() from None
+    except Exception as e:  # an error Python's eval raises too
+        raise EvalFailure(type(e).__name__, str(e)) from None
+
+
+class _Eval:
+    def __init__(self, names: dict):
+        self.names = names
+        self.steps = 0
+
+    def ev(self, n):
+        self.steps += 1
+        if self.steps > 10_000:
+            raise NotAnalysable()
+        if isinstance(n, ast.Expression):
+            return self.ev(n.body)
+        if isinstance(n, ast.Constant):
+            return n.value
+        if isinstance(n, ast.Name):
+            if n.id in self.names:
+                return self.names[n.id]
+            raise EvalFailure("NameError", f"name '{n.id}' is not defined")
+        if isinstance(n, ast.BoolOp):
+            if isinstance(n.op, ast.And):
+                v = True
+                for x in n.values:
+                    v = self.ev(x)
+                    if not v:
+                        return v
+                return v
+            v = False
+            for x in n.values:
+                v = self.ev(x)
+                if v:
+                    return v
+            return v
+        if isinstance(n, ast.UnaryOp):
+            v = self.ev(n.operand)
+            if isinstance(n.op, ast.Not):
+                return not v
+            if isinstance(n.op, ast.USub):
+                return -v
+            if isinstance(n.op, ast.UAdd):
+                return +v
+            raise NotAnalysable()
+        if isinstance(n, ast.BinOp):
+            op = _BIN.get(type(n.op))
+            if op is None:
+                raise NotAnalysable()
+            a, b = self.ev(n.left), self.ev(n.right)
+            if op is operator.pow and isinstance(b, (int, float)) and abs(b) > 1000:
+                raise NotAnalysable()
+            if op is operator.mul and any(isinstance(x, (str, list, tuple)) for x in (a, b)):
+                k = b if isinstance(b, int) else a if isinstance(a, int) else 0
+                if k > 100_000:
+                    raise NotAnalysable()
+            return op(a, b)
+        if isinstance(n, ast.Compare):
+            left = self.ev(n.left)
+            for op, right in zip(n.ops, n.comparators):
+                r = self.ev(right)
+                if not _CMP[type(op)](left, r):
+                    return False
+                left = r
+            return True
+        if isinstance(n, ast.IfExp):
+            return self.ev(n.body) if self.ev(n.test) else self.ev(n.orelse)
+        if isinstance(n, (ast.Tuple, ast.List)):
+            vals = [self.ev(x) for x in n.elts]
+            return tuple(vals) if isinstance(n, ast.Tuple) else vals
+        if isinstance(n, ast.Subscript):
+            v = self.ev(n.value)
+            if isinstance(n.slice, ast.Slice):
+                s = n.slice
+                lo = self.ev(s.lower) if s.lower else None
+                hi = self.ev(s.upper) if s.upper else None
+                st = self.ev(s.step) if s.step else None
+                return v[lo:hi:st]
+            return v[self.ev(n.slice)]
+        if isinstance(n, ast.Attribute):
+            v = self.ev(n.value)
+            if v is math and hasattr(math, n.attr) and not n.attr.startswith("_"):
+                return getattr(math, n.attr)
+            raise NotAnalysable()
+        if isinstance(n, ast.Call):
+            if n.keywords:
+                raise NotAnalysable()
+            if isinstance(n.func, ast.Attribute):
+                obj = self.ev(n.func.value)
+                if isinstance(obj, str) and n.func.attr in _STR_METHODS:
+                    return getattr(obj, n.func.attr)(*[self.ev(a) for a in n.args])
+                if obj is math and hasattr(math, n.func.attr) and not n.func.attr.startswith("_"):
+                    return getattr(math, n.func.attr)(*[self.ev(a) for a in n.args])
+                raise NotAnalysable()
+            f = self.ev(n.func)
+            if not callable(f) or (f not in _BUILTINS.values() and f not in _MATH.values()):
+                raise NotAnalysable()
+            args = [self.ev(a) for a in n.args]
+            if f in (math.factorial, math.comb, math.perm) and any(isinstance(a, int) and a > 1000 for a in args):
+                raise NotAnalysable()
+            return f(*args)
+        raise NotAnalysable()
