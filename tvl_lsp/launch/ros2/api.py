@@ -185,8 +185,10 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
         workspace_root = guess_ament_root(path)
     w = Walker(concrete=False, packages=_packages(workspace_root, packages), env=env, read_file=read_file,
                workspace_root=workspace_root, installed=installed_packages(env))
-    u = w.unit(path, text)
     w.root_path = path
+    if path.endswith(".py"):
+        return LaunchAnalysis(path, [], [], [], [], [], [], [], [], None)
+    u = w.unit(path, text)
     w.diagnostics.extend(u.doc.diagnostics)
     root_el = None
     feature_decls: list[ArgDecl] = []
@@ -347,7 +349,7 @@ def load_launch2(path: str, args: Mapping[str, str], workspace_root: Optional[st
     for n in w.nodes:
         if n.condition != TRUE:
             continue
-        res.nodes.append({"name": n.name or None, "package": n.package or None, "executable": n.executable,
+        res.nodes.append({"name": n.name or None, "package": n.package or None, "executable": n.executable or None,
                           "namespace": n.ns, "remaps": [list(r) for r in n.remaps], "params": n.params,
                           "param_files": n.param_files, "kind": n.kind, "source": n.path,
                           "line": n.element.span.start.line + 1})

@@ -13,6 +13,7 @@ then treats the value as unknown) -- nothing is ever executed.
 from __future__ import annotations
 
 import ast
+import builtins
 import math
 import operator
 
@@ -33,7 +34,11 @@ class EvalFailure(Exception):
 _MATH = {k: v for k, v in vars(math).items() if not k.startswith("_")}
 _BUILTINS = {"int": int, "float": float, "str": str, "bool": bool, "len": len, "abs": abs, "min": min,
              "max": max, "round": round, "sum": sum, "list": list, "tuple": tuple, "sorted": sorted,
-             "any": any, "all": all, "True": True, "False": False, "None": None}
+             "any": any, "all": all, "set": set, "frozenset": frozenset, "dict": dict, "range": range,
+             "enumerate": enumerate, "zip": zip, "reversed": reversed, "isinstance": isinstance,
+             "repr": repr, "chr": chr, "ord": ord, "divmod": divmod, "pow": pow, "hex": hex, "oct": oct,
+             "bin": bin, "format": format, "True": True, "False": False, "None": None}
+_ALL_BUILTINS = set(dir(builtins))
 _STR_METHODS = {"lower", "upper", "strip", "lstrip", "rstrip", "startswith", "endswith", "split", "replace",
                 "join", "format", "find", "count", "isdigit", "title", "capitalize"}
 _BIN = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
@@ -47,6 +52,7 @@ def evaluate(text: str, modules: tuple[str, ...] = ("math",)) -> str:
     """``str(eval(text, {}, locals))`` as launch computes it, or EvalFailure / NotAnalysable."""
     if len(text) > 10_000:
         raise NotAnalysable()
+    text = text.lstrip(" \t")  # as the builtin eval does with a string
     try:
         tree = compile(text, "<string>", "eval", ast.PyCF_ONLY_AST, dont_inherit=True)
     except SyntaxError as e:
@@ -85,6 +91,8 @@ class _Eval:
         if isinstance(n, ast.Name):
             if n.id in self.names:
                 return self.names[n.id]
+            if n.id in _ALL_BUILTINS:
+                raise NotAnalysable()  # a builtin tvl-lsp does not run (open, getattr, ...)
             raise EvalFailure("NameError", f"name '{n.id}' is not defined")
         if isinstance(n, ast.BoolOp):
             if isinstance(n.op, ast.And):
@@ -131,9 +139,15 @@ class _Eval:
             return True
         if isinstance(n, ast.IfExp):
             return self.ev(n.body) if self.ev(n.test) else self.ev(n.orelse)
-        if isinstance(n, (ast.Tuple, ast.List)):
+        if isinstance(n, (ast.Tuple, ast.List, ast.Set)):
+            if any(isinstance(x, ast.Starred) for x in n.elts):
+                raise NotAnalysable()
             vals = [self.ev(x) for x in n.elts]
-            return tuple(vals) if isinstance(n, ast.Tuple) else vals
+            return tuple(vals) if isinstance(n, ast.Tuple) else set(vals) if isinstance(n, ast.Set) else vals
+        if isinstance(n, ast.Dict):
+            if any(k is None for k in n.keys):
+                raise NotAnalysable()
+            return {self.ev(k): self.ev(v) for k, v in zip(n.keys, n.values)}
         if isinstance(n, ast.Subscript):
             v = self.ev(n.value)
             if isinstance(n.slice, ast.Slice):
@@ -161,7 +175,11 @@ class _Eval:
             f = self.ev(n.func)
             if not callable(f) or (f not in _BUILTINS.values() and f not in _MATH.values()):
                 raise NotAnalysable()
+            if any(isinstance(a, ast.Starred) for a in n.args):
+                raise NotAnalysable()
             args = [self.ev(a) for a in n.args]
+            if f is range and any(isinstance(a, int) and abs(a) > 100_000 for a in args):
+                raise NotAnalysable()
             if f in (math.factorial, math.comb, math.perm) and any(isinstance(a, int) and a > 1000 for a in args):
                 raise NotAnalysable()
             return f(*args)

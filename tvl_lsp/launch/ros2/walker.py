@@ -1190,21 +1190,12 @@ class Walker:
                                    shown(ns) if ns is not None else None, kind,
                                    {k: v for k, (c, v) in params.items() if conj([c, cc]) != FALSE},
                                    [shown(f) for c, f in files if conj([c, cc]) != FALSE], path)
-                    if n is not None and not opaque(full):
-                        for other in self.node_names.get(full, []):
-                            both = conj([other.condition, cc])
-                            oel = other.element
-                            self.fact(DUPLICATE_NODE, f"two nodes named [{shown(full)}] are started: ros2 launch starts "
-                                      "both (it only warns) but ROS 2 requires node names to be unique",
-                                      path, a.name.span() or el.tag_span, both, W,
-                                      related=[(other.path, oel.attrs["name"].value_span if "name" in oel.attrs
-                                                else oel.span, "the other node with this name")])
-                        self.node_names.setdefault(full, []).append(nf)
-                    self.nodes.append(nf)
+                    self.add_node(nf, a.name if n is not None else None, el, full)
         for comp in a.composables:
             self.composable(comp, emap, sc, g, None)
 
     def composable(self, comp: A.ComposableA, emap: dict, sc: Scope, guard: Formula, container) -> None:
+        """A composable node: the load request launch sends to its container."""
         el = emap.get(id(comp.entity))
         if el is None:
             return
@@ -1212,17 +1203,52 @@ class Walker:
         if cond == FALSE:
             return
         el.condition = disj([el.condition, cond])
-        for v in (comp.package, comp.plugin, comp.name, comp.namespace):
-            if v is not None:
-                self.ev(v, sc, cond, el)
-        self.node_params(comp.params, sc, cond, el, emap)
+        pkgs = self.ev(comp.package, sc, cond, el)
+        self.ev(comp.plugin, sc, cond, el)
+        names = self.ev(comp.name, sc, cond, el)
+        nss = self.ev(comp.namespace, sc, cond, el) if comp.namespace is not None else [(cond, None)]
+        base = sc.configs.get("ros_namespace", [])
+        remaps = self.list_items(sc, "remaps", cond)
+        own = []
         for r in comp.remaps:
             rel = emap.get(id(r.entity), el)
-            self.ev(r.src, sc, cond, rel)
-            self.ev(r.dst, sc, cond, rel)
+            for c1, s in self.ev(r.src, sc, cond, rel):
+                for c2, d in self.ev(r.dst, sc, c1, rel):
+                    own.append((c2, (s, d)))
+        params, files = self.node_params(comp.params, sc, cond, el, emap, composable=True)
+        for cp, p in pkgs:
+            for cn, n in names:
+                for cs, ns in nss:
+                    for cb, b in base + [(neg(present(base)), None)]:
+                        cc = conj([cp, cn, cs, cb])
+                        if cc == FALSE:
+                            continue
+                        full_ns = make_absolute(prefix_namespace(b, ns))
+                        full = (full_ns.rstrip("/") if full_ns else "") + "/" + n
+                        nr = [(f, t) for c, (f, t) in remaps + own if conj([c, cc]) != FALSE]
+                        nf = Node2Fact(shown(full), shown(p), "", shown(full_ns or "/"), el, cc, el.path, "",
+                                       [(shown(f), shown(t)) for f, t in nr], False, shown(p), "",
+                                       shown(full_ns) if full_ns is not None else None, "composable_node",
+                                       {k: v for k, (c, v) in params.items() if conj([c, cc]) != FALSE}, [], el.path)
+                        self.add_node(nf, comp.name, el, full)
 
-    def node_params(self, params: list, sc: Scope, g: Formula, el: Element, emap: dict):
-        """{name: (condition, value)} of the inline params (concrete values), and the files."""
+    def add_node(self, nf: "Node2Fact", name_value, el: Element, full: str) -> None:
+        if full and not opaque(full) and not full.endswith("/"):
+            for other in self.node_names.get(full, []):
+                both = conj([other.condition, nf.condition])
+                oel = other.element
+                self.fact(DUPLICATE_NODE, f"two nodes named [{shown(full)}] are started: ros2 launch starts both (it "
+                          "only warns) but ROS 2 requires node names to be unique", el.path,
+                          (name_value.span() if name_value is not None else None) or el.tag_span, both, W,
+                          related=[(other.path, oel.attrs["name"].value_span if "name" in oel.attrs else oel.span,
+                                    "the other node with this name")])
+            self.node_names.setdefault(full, []).append(nf)
+        self.nodes.append(nf)
+
+    def node_params(self, params: list, sc: Scope, g: Formula, el: Element, emap: dict, composable: bool = False):
+        """{name: (condition, value)} of the inline params (concrete values), and the files.
+        A missing parameter file is a warning for a node (launch skips it), an error for a
+        composable node (launch opens it to build the load request)."""
         out: dict = {}
         files: list = []
         for item in params:
@@ -1231,6 +1257,24 @@ class Walker:
                 pel.condition = disj([pel.condition, g])
                 for c, f in self.ev(item.path, sc, g, pel):
                     if opaque(f):
+                        continue
+                    allow = item.allow_substs
+                    if isinstance(allow, A.Value):
+                        vals = [(ca, typed_bool(x)) for ca, x in self.ev(allow, sc, c, pel) if not opaque(x)]
+                        allow_c = disj(ca for ca, b in vals if b is True)
+                    else:
+                        allow_c = c if allow else FALSE
+                    if allow_c != FALSE:
+                        self.param_file_substs(f, item, sc, allow_c, pel)
+                        c = conj([c, neg(allow_c)])
+                        if c == FALSE:
+                            files.append((allow_c, f))
+                            continue
+                        files.append((allow_c, f))
+                    if not self.exists(f) and composable:
+                        self.fact(FILE_NOT_FOUND, f"the parameter file '{f}' does not exist: ros2 launch fails to load "
+                                  "the composable node", pel.path, item.path.span() or pel.tag_span, c,
+                                  launch=("FileNotFoundError", f"[Errno 2] No such file or directory: '{f}'"))
                         continue
                     if not self.exists(f):
                         self.fact(PARAM_FILE_NOT_FOUND, f"the parameter file '{f}' does not exist: ros2 launch starts "
@@ -1245,6 +1289,40 @@ class Walker:
                 self.param(p, "", sc, g, el, emap, out)
         return out, files
 
+    def param_file_substs(self, f: str, item: A.ParamFileA, sc: Scope, c: Formula, pel: Element) -> None:
+        """``<param from=... allow_substs="true"/>``: launch reads the file and evaluates the
+        substitutions in it (a missing file is then an error, not a warning)."""
+        span = item.path.span() or pel.tag_span
+        text = self.read(f)
+        if text is None:
+            self.fact(FILE_NOT_FOUND, f"the parameter file '{f}' does not exist (with allow_substs launch reads "
+                      "it, and fails)", pel.path, span, c,
+                      launch=("FileNotFoundError", f"[Errno 2] No such file or directory: '{f}'"))
+            return
+        if "$(" not in text:
+            return
+        try:
+            parts = S.parse(text)
+        except S.SubstSyntaxError as ex:
+            self.fact(SUBST_SYNTAX, f"the parameter file '{f}' has a malformed substitution: {ex}", pel.path, span,
+                      c, launch=("UnexpectedCharacters", str(ex)))
+            return
+        for sub in S.walk(parts):
+            if sub.name not in A.SUBSTITUTIONS:
+                self.fact(SUBST_UNKNOWN, f"the parameter file '{f}' uses an unknown substitution $({sub.name})",
+                          pel.path, span, c, launch=("RuntimeError", f"Unknown substitution: {sub.name}"))
+                return
+        v = A.Value(parts, None, item.entity)
+        for cv, out in self.ev(v, sc, c, pel):
+            if opaque(out):
+                continue
+            try:
+                yaml.safe_load(out)
+            except Exception:
+                self.fact(INVALID_VALUE, f"the parameter file '{f}' is not valid YAML once its substitutions are "
+                          "made", pel.path, span, cv,
+                          launch=("SubstitutionFailure", "The substituted parameter file is not a valid yaml file"))
+
     def param(self, p: A.ParamA, prefix: str, sc: Scope, g: Formula, el: Element, emap: dict, out: dict) -> None:
         pel = emap.get(id(p.entity), el)
         pel.condition = disj([pel.condition, g])
@@ -1256,8 +1334,11 @@ class Walker:
                 continue
             v = p.value
             if isinstance(v, A.Value):
+                # parse_if_substitutions: plain text stays the string YAML gave; a value with
+                # substitutions is typed by YAML once substituted
+                plain = S.is_text(v.parts)
                 for cv, s in self.ev(v, sc, cn, pel):
-                    out[key] = (cv, s if p.type == "str" else _yaml_value(s))
+                    out[key] = (cv, s if p.type == "str" or plain else _yaml_value(s))
             elif isinstance(v, list):
                 vals = []
                 for x in v:
