@@ -57,12 +57,17 @@ TAGS = ("executable", "shutdown", "reset_env", "arg", "log", "unset_env", "reset
 class LoadError(Exception):
     """A mistake that makes launch refuse the file: ``kind`` is the exception launch raises."""
 
-    def __init__(self, kind: str, message: str, span: Span, path: str = ""):
+    def __init__(self, kind: str, message: str, span: Span, path: str = "", prefix: str = ""):
         super().__init__(message)
         self.kind = kind
         self.message = message
         self.span = span
         self.path = path
+        self.prefix = prefix   # what launch writes before the message (lark's VisitError)
+
+    @property
+    def launch_text(self) -> str:
+        return self.prefix + self.message
 
 
 # ------------------------------------------------------------------ values
@@ -302,12 +307,15 @@ class Parser:
         for sub in S.walk(parts):
             spec = SUBSTITUTIONS.get(sub.name)
             span = v.sub_span(sub)
+            # lark wraps what the substitution's parse method raises
+            rule = {"'": "single_quoted_substitution", '"': "double_quoted_substitution"}.get(sub.quote, "substitution")
+            wrap = f'Error trying to process rule "{rule}":\n\n'
             if spec is None:
-                raise LoadError("RuntimeError", f"Unknown substitution: {sub.name}", span, self.path)
+                raise LoadError("VisitError", f"Unknown substitution: {sub.name}", span, self.path, wrap)
             lo, hi, kind, msg = spec
             n = len(sub.args)
             if n < lo or (hi is not None and n > hi):
-                raise LoadError(kind, msg, span, self.path)
+                raise LoadError("VisitError", msg, span, self.path, wrap)
 
     def opt_subst(self, e: Entity, name: str) -> Optional[Value]:
         raw = e.get_attr(name, optional=True)

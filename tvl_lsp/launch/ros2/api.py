@@ -39,7 +39,7 @@ def load_error_code(err: A.LoadError) -> str:
         return SUBST_SYNTAX
     if m.startswith("Unknown substitution"):
         return SUBST_UNKNOWN
-    if "substitution" in m and ("expect" in m):
+    if ("substitution" in m or "substitutions" in m) and "expect" in m:
         return SUBST_ARITY
     if m.startswith("if and unless"):
         return IF_AND_UNLESS

@@ -41,6 +41,7 @@ class Sub:
     end: int          # after ')'
     name_start: int = 0
     arg_spans: list[tuple[int, int]] = field(default_factory=list)
+    quote: str = ""   # the quote of the argument it is written in ("": none)
 
     def __repr__(self) -> str:
         return f"$({self.name} {self.args!r})"
@@ -108,7 +109,7 @@ class _Parser:
             self.error("a substitution name (a letter, then letters, digits, '_' or '-') must follow '$('", j)
         while j < self.n and _is_ident(s[j]):
             j += 1
-        sub = Sub(s[i:j], [], start, start, i)
+        sub = Sub(s[i:j], [], start, start, i, [], quote or "")
         i = j
         if i < self.n and s[i] == " ":
             while True:

@@ -448,7 +448,7 @@ class Walker:
         """InvalidLaunchFileError's text for a file launch could not load."""
         ext = _extension(path)
         first = errors[0]
-        lines = [f" - {first.kind}: {first.message}"]
+        lines = [f" - {first.kind}: {first.launch_text}"]
         py = _python_error(path, self.read(path) if first.kind != "FileNotFoundError" else None)
         if py is not None:
             lines.append(f" - {py}")
