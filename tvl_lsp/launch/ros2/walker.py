@@ -754,10 +754,12 @@ class Walker:
         changed = disj(conj([c, ca, neg(before.get(v, FALSE))]) for ca, v in lk.after if v == value)
         if changed == FALSE:
             return
-        was = ", ".join(sorted({shown(v) for _, v in lk.before})) or "not set"
+        was = ", ".join(repr(x) for x in sorted({shown(v) for _, v in lk.before}))
+        without = f"without the include it would be {was}" if was else \
+            "without the include it would not be set (ros2 launch would fail here)"
         self.fact(ARG_LEAK, f"$(var {name}) reads '{shown(value)}', which the <include> on line "
                   f"{lk.include.span.start.line + 1} left behind (ros2 launch does not scope an include's args); "
-                  f"without the include it would be {was}: wrap the include in a <group> to keep it out",
+                  f"{without}: wrap the include in a <group> to keep it out",
                   el.path, span, changed, W, related=[Related(lk.path, lk.span, f"'{name}' is set here")])
 
     # ---------------------------------------------------------------- conditions
@@ -923,6 +925,8 @@ class Walker:
             else:
                 d = self.ev(a.default, sc, missing, el)
                 self.set_config(sc, [(TRUE, name)], d, missing)
+        if a.default is not None and not self.concrete and name in sc.leaks and have != FALSE:
+            self.leaked_default(a, el, sc, conj([cond, have]), vals)
         if a.choices is not None:
             span = el.attrs["name"].value_span if "name" in el.attrs else el.tag_span
             for c, v in sc.configs.get(name, []):
@@ -934,6 +938,31 @@ class Walker:
         if el.path == self.root_path and el.include_depth == 0:
             self.declared_root[name] = [(conj([c, cond]), v) for c, v in sc.configs.get(name, [])
                                         if conj([c, cond]) != FALSE]
+
+    def leaked_default(self, a: A.ArgA, el: Element, sc: Scope, c: Formula, vals: Cases) -> None:
+        """A declaration whose default is not used because an earlier include of the analysed
+        file left a value behind (the include's args and defaults are not scoped)."""
+        lk = sc.leaks[a.name]
+        if lk.path != self.root_path and lk.include.path != self.root_path:
+            return
+        defaults = {v: cd for cd, v in self.ev(a.default, sc, c, el)}
+        before = {v: cb for cb, v in lk.before}
+        changed = FALSE
+        shown_vals = set()
+        for cv, v in vals:
+            cc = conj([c, cv, neg(before.get(v, FALSE)), neg(defaults.get(v, FALSE))])
+            if cc != FALSE:
+                changed = disj([changed, cc])
+                shown_vals.add(shown(v))
+        if changed == FALSE:
+            return
+        span = el.attrs["name"].value_span if "name" in el.attrs else el.tag_span
+        dflt = ", ".join(sorted(shown(v) for v in defaults)) or "?"
+        self.fact(ARG_LEAK, f"arg '{a.name}' takes {', '.join(repr(v) for v in sorted(shown_vals))}, which the "
+                  f"<include> on line {lk.include.span.start.line + 1} of {os.path.basename(lk.include.path)} left "
+                  f"behind, instead of its default '{dflt}' (ros2 launch does not scope an include's args: wrap the "
+                  "earlier include in a <group>)", el.path, span, changed, W,
+                  related=[Related(lk.path, lk.span, f"'{a.name}' is set here")])
 
     # -- <group>
     def group(self, g: A.GroupA, el: Element, sc: Scope, cond: Formula, emap: dict) -> None:
