@@ -180,6 +180,7 @@ class LaunchAnalysis:
     includes: list[IncludeFact]
     params: list[ParamFact]
     root: Optional[Element] = None
+    dialect: str = "ros1"               # "ros1" (roslaunch) or "ros2" (ros2/launch)
 
 
 @dataclass

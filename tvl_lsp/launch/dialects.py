@@ -1,0 +1,70 @@
+"""One entry point for both launch dialects: ROS 1 (roslaunch XML) and ROS 2 (ros2/launch XML
+and YAML).  Pure: no LSP here.
+
+    analyse_any(text, path, ...) -> LaunchAnalysis   # the front end of the file's dialect
+    load_any(path, args, ...) -> LoadResult | Launch2Result
+    dialect_of(path, text) -> Dialect               # see tvl_lsp.launch.ros2.dialect
+
+Both front ends produce the shared model of :mod:`tvl_lsp.launch.model`; ``LaunchAnalysis.dialect``
+says which one did.  A ``.launch.xml`` file whose dialect the content does not decide gets a
+``launch-dialect`` information diagnostic on its root tag saying which reading was chosen and
+why (and how to force the other).
+"""
+
+from __future__ import annotations
+
+from typing import Iterable, Mapping, Optional
+
+from ..diagnostics import Diagnostic, Severity, register
+from .model import LaunchAnalysis
+from .ros2.dialect import Dialect, detect_dialect
+
+LAUNCH_DIALECT = register("launch-dialect", Severity.INFORMATION,
+                          "Which launch dialect (ROS 1 or ROS 2) tvl-lsp reads a file as, when its content does not "
+                          "say", "launch")
+
+
+def dialect_of(path: str, text: Optional[str] = None) -> Dialect:
+    return detect_dialect(path, text)
+
+
+def analyse_any(text: str, path: str, workspace_root: Optional[str] = None, read_file=None, *,
+                features: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None,
+                packages: Optional[dict[str, str]] = None, choices=None,
+                dialect: Optional[Dialect] = None) -> LaunchAnalysis:
+    """Analyse a launch file with the front end of its dialect."""
+    d = dialect or detect_dialect(path, text)
+    if d.ros2:
+        from .ros2 import analyse_launch2
+        la = analyse_launch2(text, path, workspace_root=workspace_root, read_file=read_file, features=features,
+                             env=env, packages=None if packages is None else _ros2_packages(packages),
+                             choices=choices)
+    else:
+        from .loader import analyse_launch
+        la = analyse_launch(text, path, workspace_root=workspace_root, read_file=read_file, features=features,
+                            env=env, packages=packages)
+    la.dialect = d.dialect
+    if d.ambiguous and d.marker is None and path.endswith((".launch.xml", ".xml")) and la.root is not None:
+        other = "ros1" if d.ros2 else "ros2"
+        name = "ROS 2" if d.ros2 else "ROS 1"
+        la.diagnostics.append(Diagnostic(
+            LAUNCH_DIALECT, Severity.INFORMATION, la.path, la.root.tag_span or la.root.span,
+            f"tvl-lsp reads this file as {name} launch XML: {d.reason}. Add <!-- tvl-lsp: dialect={other} --> "
+            f"to read it as {'ROS 1' if other == 'ros1' else 'ROS 2'}"))
+    return la
+
+
+def _ros2_packages(packages: Mapping[str, str]) -> dict[str, str]:
+    import os
+    return {k: os.path.realpath(v) for k, v in packages.items()}
+
+
+def load_any(path: str, args: Mapping[str, str], workspace_root: Optional[str] = None, read_file=None, *,
+             text: Optional[str] = None, env: Optional[Mapping[str, str]] = None, stub_packages: bool = True):
+    """What roslaunch / ros2 launch loads from ``path`` for ``args``."""
+    d = detect_dialect(path, text)
+    if d.ros2:
+        from .ros2 import load_launch2
+        return load_launch2(path, args, workspace_root, read_file, text=text, env=env, stub_packages=stub_packages)
+    from .loader import load_launch
+    return load_launch(path, args, workspace_root, read_file, text=text, env=env)
