@@ -44,6 +44,13 @@ class Var(Formula):
 class Not(Formula):
     arg: Formula
 
+    def __hash__(self) -> int:  # cached: formulas are deep and hashed often
+        h = self.__dict__.get("_h")
+        if h is None:
+            h = hash(("Not", self.arg))
+            object.__setattr__(self, "_h", h)
+        return h
+
     def __str__(self) -> str:
         s = str(self.arg)
         return f"!{s}" if isinstance(self.arg, (Var, Const)) else f"!({s})"
@@ -53,6 +60,13 @@ class Not(Formula):
 class And(Formula):
     args: tuple[Formula, ...]
 
+    def __hash__(self) -> int:  # cached: formulas are deep and hashed often
+        h = self.__dict__.get("_h")
+        if h is None:
+            h = hash(("And", self.args))
+            object.__setattr__(self, "_h", h)
+        return h
+
     def __str__(self) -> str:
         return " && ".join(_paren(a, Or) for a in self.args)
 
@@ -60,6 +74,13 @@ class And(Formula):
 @dataclass(frozen=True)
 class Or(Formula):
     args: tuple[Formula, ...]
+
+    def __hash__(self) -> int:  # cached: formulas are deep and hashed often
+        h = self.__dict__.get("_h")
+        if h is None:
+            h = hash(("Or", self.args))
+            object.__setattr__(self, "_h", h)
+        return h
 
     def __str__(self) -> str:
         return " || ".join(_paren(a, And) for a in self.args)

@@ -14,7 +14,7 @@ from . import subst as S
 from .ament import find_ament_packages, guess_ament_root, installed_packages
 from .frontend import make_elements
 from .walker import (IF_AND_UNLESS, LAUNCH_PARSE, MISSING_ATTRIBUTE, NO_LAUNCH_ROOT, SUBST_ARITY, SUBST_SYNTAX,
-                     SUBST_UNKNOWN, TRUE as _T, UNKNOWN_ATTRIBUTE, UNKNOWN_TAG, Scope, Stop, Walker, shown)
+                     SUBST_UNKNOWN, UNKNOWN_ATTRIBUTE, UNKNOWN_TAG, OPAQUE, Scope, Stop, Walker, merge_facts, shown)
 
 E = Severity.ERROR
 
@@ -76,9 +76,7 @@ def _root_diagnostics(w: Walker, path: str, errors: list) -> list[Diagnostic]:
 def _bool_uses(acts: list, names: set[str]) -> set[str]:
     """The top-level args used somewhere other than as a boolean: not free."""
     bad: set[str] = set()
-
-    def parts_of(v) -> list:
-        return v.parts if isinstance(v, A.Value) else []
+    good: set[str] = set()
 
     def visit_value(v: A.Value, as_condition: bool):
         def go(parts, boolean: bool):
@@ -90,6 +88,8 @@ def _bool_uses(acts: list, names: set[str]) -> set[str]:
                     n = S.plain(p.args[0]) if p.args else ""
                     if not (boolean and len(only) == 1):
                         bad.add(n)
+                    else:
+                        good.add(n)
                     for a in p.args[1:]:
                         go(a, False)
                     continue
@@ -126,7 +126,9 @@ def _bool_uses(acts: list, names: set[str]) -> set[str]:
                 visit(getattr(obj, k), depth + 1)
 
     visit(acts)
-    return names - bad
+    # an arg never used here may be read by an included file (includes see every launch
+    # configuration): free only when this file uses it, and only as a boolean
+    return (names & good) - bad
 
 
 def free_args_of(actions: list) -> list[str]:
@@ -138,7 +140,7 @@ def free_args_of(actions: list) -> list[str]:
 
 def free_args2(text: str, path: str) -> list[str]:
     """The top-level args checked as free booleans when there is no model: every top-level
-    ``<arg>`` (without <choice>) whose every ``$(var X)`` is a whole ``if``/``unless`` value or
+    ``<arg>`` (without <choice>) used here and whose every ``$(var X)`` is a whole ``if``/``unless`` value or
     an operand of ``$(not)``/``$(and)``/``$(or)``/``$(any)``/``$(all)``/the condition of
     ``$(if)`` (an arg also used as a string -- a name, a file, inside ``$(eval)`` or
     ``$(equals)`` -- keeps its default)."""
@@ -212,9 +214,11 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
         w.cur_file = [(TRUE, path)]
         sc = Scope()
         try:
-            w.check_required(u, list(root_args), root_el, TRUE, root_el.tag_span or root_el.span, root=True)
+            needed = w.check_required(u, list(root_args), root_el, TRUE, root_el.tag_span or root_el.span, root=True)
             for k, v in root_args.items():
                 sc.configs[k] = [(c, x) for c, x in v if c != FALSE]
+            for k in needed:  # the command line must give them (reported): their value is unknown
+                sc.configs.setdefault(k, [(TRUE, OPAQUE)])
             w.timers = []
             w.run(u.actions, sc, TRUE, emap)
             _run_timers(w, sc)
@@ -230,8 +234,7 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
             feature_decls.append(ArgDecl(a.name, el.span, at["name"].value_span,
                                          at["default"].value if "default" in at else None, None,
                                          a.description, path, el))
-    from ..loader import _merge_facts
-    return LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, _merge_facts(w.facts),
+    return LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, merge_facts(w.facts),
                           w.includes, [], root_el)
 
 

@@ -32,7 +32,7 @@ from typing import Mapping, Optional
 
 import yaml
 
-from ...analysis.formula import FALSE, TRUE, Formula, conj, disj, neg, variables
+from ...analysis.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, conj, disj, neg
 from ...diagnostics import Diagnostic, Related, Severity, register
 from ...text import LineIndex, Span
 from ..model import Element, ErrorFact, IncludeFact, NodeFact
@@ -136,6 +136,78 @@ class Node2Fact(NodeFact):
     params: dict = field(default_factory=dict)
     param_files: list = field(default_factory=list)
     source: str = ""
+
+
+def fvars(f: Formula) -> set[str]:
+    """The variables of a formula (shared sub-formulas visited once)."""
+    out: set[str] = set()
+    seen: set[int] = set()
+    stack = [f]
+    while stack:
+        g = stack.pop()
+        if id(g) in seen:
+            continue
+        seen.add(id(g))
+        if isinstance(g, Var):
+            out.add(g.name)
+        elif isinstance(g, Not):
+            stack.append(g.arg)
+        elif isinstance(g, (And, Or)):
+            stack.extend(g.args)
+    return out
+
+
+def feval(f: Formula, env: Mapping[str, bool], memo: Optional[dict] = None) -> bool:
+    """Evaluate (shared sub-formulas evaluated once)."""
+    memo = {} if memo is None else memo
+    k = id(f)
+    if k in memo:
+        return memo[k]
+    if isinstance(f, Const):
+        r = f.value
+    elif isinstance(f, Var):
+        r = bool(env.get(f.name, False))
+    elif isinstance(f, Not):
+        r = not feval(f.arg, env, memo)
+    elif isinstance(f, And):
+        r = all(feval(a, env, memo) for a in f.args)
+    else:
+        r = any(feval(a, env, memo) for a in f.args)
+    memo[k] = r
+    return r
+
+
+def satisfiable(f: Formula, limit: int = 14) -> Optional[bool]:
+    """True / False by brute force over at most ``limit`` variables; None beyond."""
+    if f == FALSE:
+        return False
+    if f == TRUE:
+        return True
+    vs = sorted(fvars(f))
+    if len(vs) > limit:
+        return None
+    for bits in itertools.product((False, True), repeat=len(vs)):
+        if feval(f, dict(zip(vs, bits))):
+            return True
+    return False
+
+
+def merge_facts(facts: list) -> list:
+    """One fact per (code, place, message), conditions joined; facts no assignment can trigger
+    dropped (when small enough to tell)."""
+    out: dict = {}
+    for f in facts:
+        key = (f.code, f.path, f.span, f.message)
+        g = out.get(key)
+        if g is None:
+            out[key] = LaunchFact(f.code, f.severity, f.message, f.path, f.span, f.condition, list(f.related),
+                                  getattr(f, "launch_type", ""), getattr(f, "launch_message", ""))
+        else:
+            g.condition = disj([g.condition, f.condition])
+            for r in f.related:
+                if r not in g.related:
+                    g.related.append(r)
+    return [f for f in out.values() if satisfiable(f.condition) is not False]
 
 
 class Stop(Exception):
@@ -285,7 +357,7 @@ class RList:
 
 class Scope:
     """The parts of launch's LaunchContext the analysis follows."""
-    __slots__ = ("configs", "remaps", "gparams", "env", "leaks")
+    __slots__ = ("configs", "remaps", "gparams", "env", "leaks", "opaque")
 
     def __init__(self):
         self.configs: dict[str, Cases] = {}
@@ -293,9 +365,12 @@ class Scope:
         self.gparams: list[tuple[RList, Formula]] = []
         self.env: dict[str, Cases] = {}     # set_env / unset_env (a case "\x00" = unset)
         self.leaks: dict[str, "Leak"] = {}
+        # where a Python launch file (not analysed) has run: anything may have been set there
+        self.opaque: Formula = FALSE
 
     def copy(self) -> "Scope":
         c = Scope()
+        c.opaque = self.opaque
         c.configs = {k: list(v) for k, v in self.configs.items()}
         c.remaps = list(self.remaps)
         c.gparams = list(self.gparams)
@@ -305,7 +380,7 @@ class Scope:
 
     def assign(self, other: "Scope") -> None:
         self.configs, self.remaps, self.gparams = other.configs, other.remaps, other.gparams
-        self.env, self.leaks = other.env, other.leaks
+        self.env, self.leaks, self.opaque = other.env, other.leaks, other.opaque
 
 
 @dataclass
@@ -475,10 +550,14 @@ class Walker:
                     new.append((c2, s + r))
             cases = merge(new)
             if len(cases) > MAX_CASES:
-                self.note(CONDITION_NOT_ANALYSABLE, "too many combinations of arg values to analyse this value",
-                          el.path, v.span() or el.span)
-                cases = cases[:MAX_CASES]
+                cases = self.collapse(cases, el, v.span() or el.span)
         return cases
+
+    def collapse(self, cases: Cases, el: Element, span: Span) -> Cases:
+        """Too many values: one unknown value where any of them is (no false errors follow)."""
+        self.note(CONDITION_NOT_ANALYSABLE, "too many combinations of arg values to analyse this value: "
+                  "tvl-lsp treats it as unknown", el.path, span)
+        return [(disj(c for c, _ in cases), OPAQUE)]
 
     def span_of(self, v: A.Value, sub, el: Element) -> Span:
         s = v.sub_span(sub) if v is not None else None
@@ -518,6 +597,9 @@ class Walker:
                 if opaque(n):
                     out.append((missing, OPAQUE))
                     continue
+                if sc.opaque != FALSE:
+                    out.append((conj([missing, sc.opaque]), OPAQUE))
+                    missing = conj([missing, neg(sc.opaque)])
                 fail(f"launch configuration '{n}' does not exist", missing, UNDEFINED_ARG,
                      f"$(var {n}): no <arg> or <let> named '{n}' is set here (ros2 launch: launch configuration "
                      f"'{n}' does not exist)")
@@ -684,6 +766,9 @@ class Walker:
                             found.append((conj([cn, fl, ci]), str(item[1])))
                 rest = conj([cn, neg(present(found))])
                 out += found
+                if rest != FALSE and sc.opaque != FALSE:
+                    out.append((conj([rest, sc.opaque]), OPAQUE))
+                    rest = conj([rest, neg(sc.opaque)])
                 if rest != FALSE:
                     if len(args) > 1:
                         out += arg(1, rest)
@@ -732,7 +817,7 @@ class Walker:
 
     # ---------------------------------------------------------------- configurations
 
-    def set_config(self, sc: Scope, names: Cases, values: Cases, g: Formula) -> None:
+    def set_config(self, sc: Scope, names: Cases, values: Cases, g: Formula, el: Optional[Element] = None) -> None:
         for cn, n in names:
             vals = [(conj([cn, cv]), v) for cv, v in values]
             vals = [(c, v) for c, v in vals if c != FALSE]
@@ -741,7 +826,13 @@ class Walker:
                 continue
             old = sc.configs.get(n, [])
             keep = [(conj([c, neg(setc)]), v) for c, v in old]
-            sc.configs[n] = merge(keep + vals)
+            new = merge(keep + vals)
+            if len(new) > MAX_CASES:
+                if el is not None:
+                    self.note(CONDITION_NOT_ANALYSABLE, f"too many combinations of arg values to analyse the value "
+                              f"of '{n}': tvl-lsp treats it as unknown", el.path, el.tag_span or el.span)
+                new = [(present(new), OPAQUE)]
+            sc.configs[n] = new
             if n in sc.leaks:
                 del sc.leaks[n]
 
@@ -836,7 +927,7 @@ class Walker:
         if t == "arg":
             self.arg(a, el, sc, cond)
         elif t == "let":
-            self.set_config(sc, self.ev(a.name, sc, cond, el), self.ev(a.value, sc, cond, el), cond)
+            self.set_config(sc, self.ev(a.name, sc, cond, el), self.ev(a.value, sc, cond, el), cond, el)
         elif t == "group":
             self.group(a, el, sc, cond, emap)
         elif t == "include":
@@ -919,9 +1010,14 @@ class Walker:
         if missing != FALSE:
             if a.default is None:
                 span = el.attrs["name"].value_span if "name" in el.attrs else el.tag_span
+                if sc.opaque != FALSE:
+                    self.set_config(sc, [(TRUE, name)], [(conj([missing, sc.opaque]), OPAQUE)], missing)
+                    missing = conj([missing, neg(sc.opaque)])
                 self.fact(UNSET_ARG, f"arg '{name}' has no default and nothing sets it: ros2 launch needs "
                           f"{name}:=... (Required launch argument \"{name}\" was not provided)", el.path, span, missing,
                           launch=("RuntimeError", f'Required launch argument "{name}" was not provided.'))
+                # the command line sets it (the warning says so); its value is unknown here
+                self.set_config(sc, [(TRUE, name)], [(missing, OPAQUE)], missing)
             else:
                 d = self.ev(a.default, sc, missing, el)
                 self.set_config(sc, [(TRUE, name)], d, missing)
@@ -1006,39 +1102,11 @@ class Walker:
         sc.leaks = {}
 
     def restore(self, sc: Scope, saved: Scope, cond: Formula) -> None:
-        """PopLaunchConfigurations: under ``cond`` the saved copy, elsewhere what is now."""
-        if cond == TRUE:
-            sc.assign(saved)
-            return
-        nc = neg(cond)
-
-        def mix(now: dict, before: dict) -> dict:
-            out = {}
-            for k in set(now) | set(before):
-                vals = [(conj([c, nc]), v) for c, v in now.get(k, [])] + \
-                       [(conj([c, cond]), v) for c, v in before.get(k, [])]
-                vals = merge(vals)
-                if vals:
-                    out[k] = vals
-            return out
-        configs = mix(sc.configs, saved.configs)
-        env = mix(sc.env, saved.env)
-
-        def refs(now, before):
-            out = [(lst, conj([f, nc])) for lst, f in now] + [(lst, conj([f, cond])) for lst, f in before]
-            merged: dict[int, tuple] = {}
-            for lst, f in out:
-                if f == FALSE:
-                    continue
-                if id(lst) in merged:
-                    merged[id(lst)] = (lst, disj([merged[id(lst)][1], f]))
-                else:
-                    merged[id(lst)] = (lst, f)
-            return list(merged.values())
-        sc.remaps = refs(sc.remaps, saved.remaps)
-        sc.gparams = refs(sc.gparams, saved.gparams)
-        sc.configs, sc.env = configs, env
-        sc.leaks = saved.leaks
+        """PopLaunchConfigurations.  Everything inside the group ran under ``cond``, so where
+        ``cond`` is false nothing changed: the saved copy is the state everywhere.  (The
+        ``ros_remaps`` / ``global_params`` lists themselves are shared, so what was appended to
+        an outer list stays, as in launch.)"""
+        sc.assign(saved)
 
     def reset(self, a: A.ResetA, el: Element, sc: Scope, cond: Formula) -> None:
         kept = [(self.ev(k.name, sc, cond, el), self.ev(k.value, sc, cond, el)) for k in a.keeps or []]
@@ -1300,6 +1368,8 @@ class Walker:
                             files.append((allow_c, f))
                             continue
                         files.append((allow_c, f))
+                    if not self.exists(f) and not self.concrete and not self.in_workspace(f):
+                        continue  # a file of the machine that launches (e.g. $(env HOME)/...): unknown here
                     if not self.exists(f) and composable:
                         self.fact(FILE_NOT_FOUND, f"the parameter file '{f}' does not exist: ros2 launch fails to load "
                                   "the composable node", pel.path, item.path.span() or pel.tag_span, c,
@@ -1323,6 +1393,8 @@ class Walker:
         substitutions in it (a missing file is then an error, not a warning)."""
         span = item.path.span() or pel.tag_span
         text = self.read(f)
+        if text is None and not self.concrete and not self.in_workspace(f):
+            return
         if text is None:
             self.fact(FILE_NOT_FOUND, f"the parameter file '{f}' does not exist (with allow_substs launch reads "
                       "it, and fails)", pel.path, span, c,
@@ -1406,6 +1478,9 @@ class Walker:
             u = self.unit(path)
             if u is None and path.endswith(".py") and self.concrete:
                 u = Unit(path, None, [], [], python=True)
+            if u is None and not self.concrete and not self.in_workspace(path):
+                el.unresolved = True   # e.g. an installed package's file: not on this machine
+                continue
             if u is None:
                 ext = _extension(path)
                 err = f"[Errno 2] No such file or directory: '{path}'"
@@ -1424,6 +1499,7 @@ class Walker:
                 self.fact(PYTHON_INCLUDE, f"{os.path.basename(path)} is a Python launch file: tvl-lsp does not "
                           "execute it, so the nodes it starts and the args it sets are not analysed", el.path, span,
                           c, I)
+                sc.opaque = disj([sc.opaque, c])
                 el.unresolved = True
                 inc.followed = False
                 continue
@@ -1492,12 +1568,20 @@ class Walker:
                 return iel.path, (ia.name.span() or iel.tag_span)
         return el.path, el.tag_span or el.span
 
+    def in_workspace(self, path: str) -> bool:
+        """Is ``path`` inside a package of the workspace (where a missing file is a mistake, not
+        just a file of another machine)?"""
+        p = os.path.realpath(path)
+        return any(p.startswith(os.path.realpath(f).rstrip("/") + "/") for f in self.packages.values())
+
     def aspan(self, el: Element, name: str) -> Span:
         at = el.attrs.get(name)
         return at.value_span if at is not None else (el.tag_span or el.span)
 
     # -- the required-argument check (IncludeLaunchDescription.execute)
-    def check_required(self, u: Unit, given: list[str], el: Element, c: Formula, span: Span, root: bool) -> None:
+    def check_required(self, u: Unit, given: list[str], el: Element, c: Formula, span: Span, root: bool) -> list:
+        """IncludeLaunchDescription's check of required args; returns the names it reported."""
+        reported = []
         declared = self.lookahead(u)
         names = list(given)
         for arg, chain in declared:
@@ -1511,6 +1595,7 @@ class Walker:
             if root and arg.action.name in self.free:
                 continue
             a = arg.action
+            reported.append(a.name)
             msg = (f"Included launch description missing required argument '{a.name}' (description: "
                    f"'{a.described}'), given: [{', '.join(argument_names)}]")
             if root:
@@ -1528,8 +1613,16 @@ class Walker:
                           related=[(a.entity.path, a.entity.attrs["name"].value_span if "name" in a.entity.attrs
                                     else a.entity.tag_span, f"'{a.name}' is declared here without a default")],
                           launch=("RuntimeError", msg))
+        return reported
 
     def lookahead(self, u: Unit) -> list:
+        key = u.path
+        cache = self.__dict__.setdefault("_lookahead_cache", {})
+        if key not in cache:
+            cache[key] = self._lookahead(u)
+        return cache[key]
+
+    def _lookahead(self, u: Unit) -> list:
         """LaunchDescription.get_launch_arguments_with_include_launch_description_actions: the
         declared args of a file and of the files it includes (as far as they can be loaded
         without a context), each with the chain of includes it is behind and whether it is
