@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from tvl_lsp.analysis.formula import evaluate, variables
+from tvl_lsp.base.formula import evaluate, variables
 from tvl_lsp.launch.ros2 import analyse_launch2, detect_dialect, free_args2, load_launch2
 from tvl_lsp.launch.ros2 import actions as A
 from tvl_lsp.launch.ros2 import subst as S

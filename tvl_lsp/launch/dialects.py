@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from typing import Iterable, Mapping, Optional
 
-from ..diagnostics import Diagnostic, Severity, register
+from ..base.diagnostics import Diagnostic, Severity, register
 from .model import LaunchAnalysis
 from .ros2.dialect import Dialect, detect_dialect
 
@@ -40,7 +40,7 @@ def analyse_any(text: str, path: str, workspace_root: Optional[str] = None, read
                              env=env, packages=None if packages is None else _ros2_packages(packages),
                              choices=choices)
     else:
-        from .loader import analyse_launch
+        from .ros1.loader import analyse_launch
         la = analyse_launch(text, path, workspace_root=workspace_root, read_file=read_file, features=features,
                             env=env, packages=packages)
     la.dialect = d.dialect
@@ -66,5 +66,5 @@ def load_any(path: str, args: Mapping[str, str], workspace_root: Optional[str] =
     if d.ros2:
         from .ros2 import load_launch2
         return load_launch2(path, args, workspace_root, read_file, text=text, env=env, stub_packages=stub_packages)
-    from .loader import load_launch
+    from .ros1.loader import load_launch
     return load_launch(path, args, workspace_root, read_file, text=text, env=env)

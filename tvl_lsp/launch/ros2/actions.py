@@ -15,7 +15,7 @@ import shlex
 from dataclasses import dataclass, field
 from typing import Any, Optional, Union
 
-from ...text import Span
+from ...base.text import Span
 from . import subst as S
 from .frontend import LIST, Entity, FrontendError, RAttr
 

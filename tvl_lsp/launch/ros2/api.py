@@ -6,8 +6,8 @@ import os
 from dataclasses import dataclass, field
 from typing import Iterable, Mapping, Optional
 
-from ...analysis.formula import FALSE, TRUE, Formula, Var, conj, disj, neg
-from ...diagnostics import Diagnostic, Severity
+from ...base.formula import FALSE, TRUE, Formula, Var, conj, disj, neg
+from ...base.diagnostics import Diagnostic, Severity
 from ..model import ArgDecl, LaunchAnalysis
 from . import actions as A
 from . import subst as S

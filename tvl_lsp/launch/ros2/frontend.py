@@ -17,8 +17,8 @@ from typing import Any, Optional
 
 import yaml
 
-from ...diagnostics import Diagnostic, Severity
-from ...text import LineIndex, Span
+from ...base.diagnostics import Diagnostic, Severity
+from ...base.text import LineIndex, Span
 from ..model import Attr, Element, Subst
 from ..xml import XML_SYNTAX, XML_TOO_LARGE, MAX_TEXT, XAttr, XElement, parse_xml, value_span
 from . import subst as S
@@ -497,7 +497,7 @@ def make_elements(e: Entity, path: str, parent: Optional[Element], depth: int, e
         elif not isinstance(v, str):
             continue  # sub-entity lists and other structures
         attrs[k] = Attr(k, v, a.name_span, a.value_span)
-    from ...analysis.formula import FALSE
+    from ...base.formula import FALSE
     el = Element(e.tag, e.span, attrs, path, FALSE, parent, [], substitutions_of(e), e.tag_span, e.text, depth)
     emap[id(e)] = el
     sink.append(el)

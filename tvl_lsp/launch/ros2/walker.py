@@ -32,10 +32,10 @@ from typing import Mapping, Optional
 
 import yaml
 
-from ...analysis.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, conj, disj, neg
-from ...diagnostics import Diagnostic, Related, Severity, register
-from ...text import LineIndex, Span
-from ..model import Element, ErrorFact, IncludeFact, NodeFact
+from ...base.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, conj, disj, neg
+from ...base.diagnostics import Diagnostic, Related, Severity, register
+from ...base.text import LineIndex, Span
+from ..model import Element, ErrorFact, IncludeFact, NodeFact, RemapCase
 from . import actions as A
 from . import pyexpr
 from . import subst as S
@@ -942,7 +942,7 @@ class Walker:
         elif t == "set_remap":
             src = self.ev(a.src, sc, cond, el)
             dst = self.ev(a.dst, sc, cond, el)
-            items = [(conj([c1, c2]), (s, d)) for c1, s in src for c2, d in dst]
+            items = [(conj([c1, c2]), (s, d, el)) for c1, s in src for c2, d in dst]
             self.append_list(sc, "remaps", items, cond)
         elif t == "set_parameter":
             names = self.ev(a.name, sc, cond, el)
@@ -1254,7 +1254,7 @@ class Walker:
             rel = emap.get(id(r.entity), el)
             for c1, s in self.ev(r.src, sc, g, rel):
                 for c2, d in self.ev(r.dst, sc, c1, rel):
-                    own.append((c2, (s, d)))
+                    own.append((c2, (s, d, rel)))
         # ExecuteProcess.prepare: the command line (package lookup, arguments)
         pkgs = self.ev(a.package, sc, g, el) if a.package is not None else [(g, None)]
         exes = self.ev(a.executable, sc, g, el)
@@ -1282,12 +1282,9 @@ class Walker:
                     full = ""
                     if n is not None:
                         full = (ns.rstrip("/") if ns else "") + "/" + n
-                    nr = [(f, t) for c, (f, t) in remaps + own if conj([c, cc]) != FALSE]
-                    nf = Node2Fact(shown(full), shown(p or ""), shown(x), shown(ns or "/"), el, cc, path, "",
-                                   [(shown(f), shown(t)) for f, t in nr], False, shown(p or ""), shown(x),
-                                   shown(ns) if ns is not None else None, kind,
-                                   {k: v for k, (c, v) in params.items() if conj([c, cc]) != FALSE},
-                                   [shown(f) for c, f in files if conj([c, cc]) != FALSE], path)
+                    nf = self.make_node(full, p or "", x, ns, el, cc, remaps + own, kind,
+                                        {k: v for k, (c, v) in params.items() if conj([c, cc]) != FALSE},
+                                        [shown(f) for c, f in files if conj([c, cc]) != FALSE])
                     self.add_node(nf, a.name if n is not None else None, el, full)
         for comp in a.composables:
             self.composable(comp, emap, sc, g, None)
@@ -1312,7 +1309,7 @@ class Walker:
             rel = emap.get(id(r.entity), el)
             for c1, s in self.ev(r.src, sc, cond, rel):
                 for c2, d in self.ev(r.dst, sc, c1, rel):
-                    own.append((c2, (s, d)))
+                    own.append((c2, (s, d, rel)))
         params, files = self.node_params(comp.params, sc, cond, el, emap, composable=True)
         for cp, p in pkgs:
             for cn, n in names:
@@ -1323,12 +1320,28 @@ class Walker:
                             continue
                         full_ns = make_absolute(prefix_namespace(b, ns))
                         full = (full_ns.rstrip("/") if full_ns else "") + "/" + n
-                        nr = [(f, t) for c, (f, t) in remaps + own if conj([c, cc]) != FALSE]
-                        nf = Node2Fact(shown(full), shown(p), "", shown(full_ns or "/"), el, cc, el.path, "",
-                                       [(shown(f), shown(t)) for f, t in nr], False, shown(p), "",
-                                       shown(full_ns) if full_ns is not None else None, "composable_node",
-                                       {k: v for k, (c, v) in params.items() if conj([c, cc]) != FALSE}, [], el.path)
+                        nf = self.make_node(full, p, "", full_ns, el, cc, remaps + own, "composable_node",
+                                            {k: v for k, (c, v) in params.items() if conj([c, cc]) != FALSE}, [])
                         self.add_node(nf, comp.name, el, full)
+
+    def make_node(self, full: str, pkg: str, exe: str, ns: Optional[str], el: Element, cc: Formula, remaps: list,
+                  kind: str, params: dict, files: list) -> "Node2Fact":
+        """A node fact; its remap cases in launch's order (the first rule for a name wins in ROS 2)."""
+        rcases = []
+        earlier: dict[str, Formula] = {}
+        for c, (f, t, rel) in remaps:
+            here = conj([c, cc])
+            if here == FALSE:
+                continue
+            f2, t2 = shown(f), shown(t)
+            rcases.append(RemapCase(f2, t2, conj([here, neg(earlier.get(f2, FALSE))]), rel))
+            earlier[f2] = disj([earlier.get(f2, FALSE), here])
+        return Node2Fact(name=shown(full), pkg=shown(pkg), type=shown(exe), namespace=shown(ns or "/"), element=el,
+                         condition=cc, path=el.path, args="",
+                         remaps=[(shown(f), shown(t)) for c, (f, t, _) in remaps if conj([c, cc]) != FALSE],
+                         remap_cases=rcases, package=shown(pkg), executable=shown(exe),
+                         ns=shown(ns) if ns is not None else None, kind=kind, params=params, param_files=files,
+                         source=el.path)
 
     def add_node(self, nf: "Node2Fact", name_value, el: Element, full: str) -> None:
         if full and not opaque(full) and not full.endswith("/"):
