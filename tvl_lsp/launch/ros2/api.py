@@ -6,15 +6,17 @@ import os
 from dataclasses import dataclass, field
 from typing import Iterable, Mapping, Optional
 
-from ...base.formula import FALSE, TRUE, Formula, Var, conj, disj, neg
+from ...base.formula import FALSE, TRUE, Formula, Var, conj, neg
 from ...base.diagnostics import Diagnostic, Severity
 from ..model import ArgDecl, LaunchAnalysis
 from . import actions as A
 from . import subst as S
 from .ament import find_ament_packages, guess_ament_root, installed_packages
 from .frontend import make_elements
-from .walker import (IF_AND_UNLESS, LAUNCH_PARSE, MISSING_ATTRIBUTE, NO_LAUNCH_ROOT, SUBST_ARITY, SUBST_SYNTAX,
-                     SUBST_UNKNOWN, UNKNOWN_ATTRIBUTE, UNKNOWN_TAG, OPAQUE, Scope, Stop, Walker, merge_facts, shown)
+from .values import (IF_AND_UNLESS, LAUNCH_PARSE, MISSING_ATTRIBUTE, NO_LAUNCH_ROOT, OPAQUE, SUBST_ARITY, SUBST_SYNTAX,
+                     SUBST_UNKNOWN, UNKNOWN_ATTRIBUTE, UNKNOWN_TAG, merge_facts, shown)
+from .values import Scope, Stop
+from .walker import Walker
 
 E = Severity.ERROR
 
@@ -223,7 +225,7 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
             w.run(u.actions, sc, TRUE, emap)
             _run_timers(w, sc)
         except RecursionError:
-            from .walker import BUDGET, LaunchFact
+            from .values import BUDGET, LaunchFact
             w.facts.append(LaunchFact(BUDGET, Severity.WARNING, "the launch file is nested too deeply to analyse "
                                       "completely", path, root_el.tag_span or root_el.span, TRUE))
         for a in tops:
@@ -312,7 +314,7 @@ def load_launch2(path: str, args: Mapping[str, str], workspace_root: Optional[st
     try:
         if text is None:
             err = f"[Errno 2] No such file or directory: '{path}'"
-            from .walker import _extension
+            from .values import _extension
             res.error = (f"Caught multiple exceptions when trying to load file of format [{_extension(path)}]:\n"
                          f" - FileNotFoundError: {err}\n - FileNotFoundError: {err}")
             res.error_type, res.error_code = "InvalidLaunchFileError", "include-not-found"

@@ -11,7 +11,6 @@ composer.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
@@ -20,7 +19,7 @@ import yaml
 from ...base.diagnostics import Diagnostic, Severity
 from ...base.text import LineIndex, Span
 from ..model import Attr, Element, Subst
-from ..xml import XML_SYNTAX, XML_TOO_LARGE, MAX_TEXT, XAttr, XElement, parse_xml, value_span
+from ..xml import MAX_TEXT, XML_SYNTAX, XML_TOO_LARGE, XElement, parse_xml
 from . import subst as S
 
 LIST = "list-of-entities"   # get_attr(name, data_type=LIST): launch's List[Entity]
