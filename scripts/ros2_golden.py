@@ -64,7 +64,7 @@ def read_cases(path: Path = CASES) -> list[dict]:
 
 def _products(model: Path) -> list[dict[str, bool]]:
     sys.path.insert(0, str(ROOT))
-    from tvl_lsp.features._facts import generation_products
+    from tvl_lsp.project.facts import generation_products
     text = model.read_text()
     return generation_products(str(model), {str(model): text}, {}, "all", 1000)
 

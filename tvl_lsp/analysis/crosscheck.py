@@ -66,7 +66,7 @@ CONSTANT_CONDITION = register(
     "constant-condition", Severity.INFORMATION,
     "An if/unless condition has the same value in every product where it is evaluated.", "cross")
 
-_ARG_REF = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
+_ARG_REF = re.compile(r"\$\((?:arg|var)\s+([^\s)]+)\s*\)")   # roslaunch's $(arg X), ros2's $(var X)
 _STRINGY = re.compile(r"""(==|!=|\bin\b)\s*['"\[]|['"]\s*(==|!=)""")
 _EVAL_ARG_REF = re.compile(r"arg\(\s*['\"]([^'\"]+)['\"]\s*\)")
 MAX_COND_TEXT = 160
@@ -122,25 +122,51 @@ def _insert_arg_fix(launch, text: Optional[str], feature: str) -> list[Fix]:
         return []
     idx = LineIndex(text)
     top_args = [c for c in launch.root.children if c.tag == "arg"]
+    ros2 = getattr(launch, "dialect", "ros1") == "ros2"
+    yaml_file = launch.path.endswith((".yaml", ".yml"))
+    if yaml_file:
+        # after the last top-level `- arg:` entry (its whole line), or after `launch:`
+        if top_args:
+            line = max(c.span.end.line for c in top_args)
+            for c in top_args:
+                for a in c.attrs.values():
+                    line = max(line, a.value_span.end.line)
+            lt = idx.line_text(top_args[-1].span.start.line)
+            indent = lt[: len(lt) - len(lt.lstrip())]
+        else:
+            line = launch.root.span.start.line
+            indent = "  "
+        at = Pos(line, len(idx.line_text(line)))
+        new = f'\n{indent}- arg: {{name: {feature}, default: "false"}}'
+        title = f'Add `- arg: {{name: {feature}, default: "false"}}`'
+        return [Fix(title, (TextEdit(launch.path, Span(at, at), new),), preferred=True)]
     if top_args:
         after = top_args[-1].span.end
+        last = top_args[-1]
+        if ros2 and last.children:
+            # an <arg> with <choice> children: after its end tag's line
+            end_line = max(ch.span.end.line for ch in last.children) + 1
+            if end_line < len(idx.starts):
+                after = Pos(end_line, len(idx.line_text(end_line)))
         line_text = idx.line_text(top_args[-1].span.start.line)
         indent = line_text[: len(line_text) - len(line_text.lstrip())]
     else:
         after = _start_tag(launch.root).end
         indent = "  "
-    edit = TextEdit(launch.path, Span(after, after), f'\n{indent}<arg name="{feature}"/>')
-    return [Fix(f'Add <arg name="{feature}"/>', (edit,), preferred=True)]
+    tag = f'<arg name="{feature}" default="false"/>' if ros2 else f'<arg name="{feature}"/>'
+    edit = TextEdit(launch.path, Span(after, after), f'\n{indent}{tag}')
+    return [Fix(f'Add {tag}', (edit,), preferred=True)]
 
 
 # ------------------------------------------------------------------ the check
 
 def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str] = None,
                 model_path: Optional[str] = None, logic: Optional[PairLogic] = None,
-                analysis=None) -> list[Diagnostic]:
+                analysis=None, choices=None) -> list[Diagnostic]:
     """Diagnostics of ``launch`` (a LaunchAnalysis) paired with ``model`` (or alone).
     ``analysis``: the model's :class:`~tvl_lsp.analysis.engine.ModelAnalysis`, to explain dead
-    elements by the parts of the model that exclude them."""
+    elements by the parts of the model that exclude them.  ``choices``: the ROS 2 ``<choice>``
+    args' pairings (:func:`tvl_lsp.analysis.choices.pair_choices`; computed when None)."""
     out: list[Diagnostic] = []
     path = launch.path
     model_name = None
@@ -161,6 +187,14 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             if f is not None and a.name not in by_arg:
                 by_arg[a.name] = f
         matched_features = set(id(f) for f in by_arg.values())
+        launch_choices = getattr(launch, "choices", None) or {}
+        if launch_choices:
+            from .choices import choice_diagnostics, covered_features, pair_choices
+            if choices is None:
+                choices = pair_choices({k: v[0] for k, v in launch_choices.items()}, encoding)
+            # an alternative group's children are selected through the group's arg
+            matched_features |= covered_features(choices)
+            out += choice_diagnostics(launch, choices, model_name)
         unmatched_feature_names = [encoding.name_of(f) for f in features if id(f) not in matched_features]
         all_feature_names = [encoding.name_of(f) for f in features]
         for a in feature_args:
@@ -236,7 +270,8 @@ def _undeclared_after_first(launch, known: set[str]) -> dict:
         if e.path != launch.path or getattr(e, "include_depth", 0) != 0:
             continue
         for attr in e.attrs.values():
-            subs = [x for x in e.substitutions if x.attr == attr.name and x.kind == "arg" and len(x.args) == 1]
+            subs = [x for x in e.substitutions if x.attr == attr.name and x.kind in ("arg", "var")
+                    and len(x.args) == 1]
             firsts = [f for f in reported if any(f.span == x.span for x in subs)]
             if not firsts:
                 continue
@@ -282,7 +317,9 @@ def _include_anchors(launch):
 
 
 _NO_VALUE_NAME = re.compile(r"\('([^']+)' has none\)")
-_MISSING_NAME = re.compile(r"requires the '([^']+)' arg|arg '([^']+)' is not defined|'([^']+)' is not declared")
+_MISSING_NAME = re.compile(r"requires the '([^']+)' arg|arg '([^']+)' is not defined|'([^']+)' is not declared"
+                           # ROS 2: $(var X) of nothing set; an arg without default
+                           r"|named '([^']+)' is set here|arg '([^']+)' has no default|the arg '([^']+)', which")
 
 
 def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnostic]:

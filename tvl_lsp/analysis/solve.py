@@ -414,6 +414,10 @@ class PairLogic:
                 v = self.enc.var_of_feature[f]
                 self.var_of[name] = v
                 return v
+            lit = self.enc.value_literal(name)  # ATTR=VALUE of an encoded attribute
+            if lit is not None:
+                self.var_of[name] = lit
+                return lit
         if v is None:
             v = self._new()
             self.var_of[name] = v

@@ -13,6 +13,13 @@ Public API::
                 packages=None) -> LoadResult             # concrete: one assignment, like roslaunch
     parse_xml(text, path) -> XmlDoc                      # secure parse with exact ranges
     find_packages(workspace_root) -> {package: folder}
+
+Both dialects (chosen by file kind and content, ``launch/ros2/dialect.py``)::
+
+    analyse_any(text, path, ...) -> LaunchAnalysis      # ROS 1 or ROS 2 front end; .dialect says which
+    load_any(path, args, ...) -> LoadResult | Launch2Result
+    dialect_of(path, text) -> Dialect
+    free_args_of_file(text, path) -> list[str]          # args checked as free booleans without a model
 """
 
 from .ros1.loader import analyse_launch, check_launch, load_launch
@@ -20,10 +27,13 @@ from .model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalys
                     ParamFact, RemapCase, Subst)
 from .packages import find_packages, guess_workspace_root
 from .xml import parse_xml
+from .dialects import (ARG_KINDS, analyse_any, dialect_of, free_args_of_file, include_targets, is_launch_path,
+                       load_any)
 
 parse_launch = analyse_launch
 launch_diagnostics = check_launch
 
 __all__ = ["analyse_launch", "check_launch", "launch_diagnostics", "load_launch", "parse_launch", "parse_xml", "find_packages",
            "guess_workspace_root", "ArgDecl", "Attr", "Element", "ErrorFact", "IncludeFact", "LaunchAnalysis",
-           "LoadResult", "NodeFact", "ParamFact", "RemapCase", "Subst"]
+           "LoadResult", "NodeFact", "ParamFact", "RemapCase", "Subst", "ARG_KINDS", "analyse_any", "dialect_of",
+           "free_args_of_file", "include_targets", "is_launch_path", "load_any"]

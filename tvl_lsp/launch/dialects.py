@@ -13,11 +13,35 @@ why (and how to force the other).
 
 from __future__ import annotations
 
+import re
 from typing import Iterable, Mapping, Optional
 
 from ..base.diagnostics import Diagnostic, Severity, register
 from .model import LaunchAnalysis
 from .ros2.dialect import Dialect, detect_dialect
+
+# the substitutions that read a launch argument: roslaunch's $(arg X), ros2/launch's $(var X)
+ARG_KINDS = ("arg", "var")
+
+# launch file names: roslaunch's .launch (and .launch.xml, .test), ros2/launch's .launch.xml /
+# .launch.yaml and the *_launch.xml / *_launch.yaml of the ROS 2 tutorials
+LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".launch.yaml", ".launch.yml", "_launch.xml", "_launch.yaml",
+                   "_launch.yml")
+
+
+def is_launch_path(path: str) -> bool:
+    return path.endswith(LAUNCH_SUFFIXES)
+
+
+def launch_stem(path: str) -> str:
+    """``robot`` for robot.launch, robot.launch.xml, robot.launch.yaml, robot_launch.xml ..."""
+    import os
+    base = os.path.basename(path)
+    for suf in sorted(LAUNCH_SUFFIXES, key=len, reverse=True):
+        if base.endswith(suf):
+            return base[: -len(suf)]
+    return os.path.splitext(base)[0]
+
 
 LAUNCH_DIALECT = register("launch-dialect", Severity.INFORMATION,
                           "Which launch dialect (ROS 1 or ROS 2) tvl-lsp reads a file as, when its content does not "
@@ -31,14 +55,15 @@ def dialect_of(path: str, text: Optional[str] = None) -> Dialect:
 def analyse_any(text: str, path: str, workspace_root: Optional[str] = None, read_file=None, *,
                 features: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None,
                 packages: Optional[dict[str, str]] = None, choices=None,
-                dialect: Optional[Dialect] = None) -> LaunchAnalysis:
-    """Analyse a launch file with the front end of its dialect."""
+                dialect: Optional[Dialect] = None, partial: bool = False) -> LaunchAnalysis:
+    """Analyse a launch file with the front end of its dialect (``choices``, ``partial``: see
+    :func:`tvl_lsp.launch.ros2.analyse_launch2`; ROS 1 ignores them)."""
     d = dialect or detect_dialect(path, text)
     if d.ros2:
         from .ros2 import analyse_launch2
         la = analyse_launch2(text, path, workspace_root=workspace_root, read_file=read_file, features=features,
                              env=env, packages=None if packages is None else _ros2_packages(packages),
-                             choices=choices)
+                             choices=choices, partial=partial)
     else:
         from .ros1.loader import analyse_launch
         la = analyse_launch(text, path, workspace_root=workspace_root, read_file=read_file, features=features,
@@ -57,6 +82,36 @@ def analyse_any(text: str, path: str, workspace_root: Optional[str] = None, read
 def _ros2_packages(packages: Mapping[str, str]) -> dict[str, str]:
     import os
     return {k: os.path.realpath(v) for k, v in packages.items()}
+
+
+_INCLUDE_XML = re.compile(r"<include\b[^>]*?\bfile\s*=\s*(?:\"([^\"]*)\"|'([^']*)')", re.S)
+_INCLUDE_YAML = re.compile(r"^\s*-?\s*(?:include\s*:\s*\{[^}\n]*?\bfile\s*:|file\s*:)\s*[\"']?([^\"'\n,}]+)", re.M)
+
+
+def include_targets(text: str) -> set[str]:
+    """The base names of the launch files a launch file includes (as written: ``.../x.launch.xml``
+    -> ``x.launch.xml``; names made by a substitution are left out)."""
+    out: set[str] = set()
+    for m in _INCLUDE_XML.finditer(text[:5_000_000]):
+        out.add((m.group(1) if m.group(1) is not None else m.group(2)).strip())
+    for m in _INCLUDE_YAML.finditer(text[:5_000_000]):
+        out.add(m.group(1).strip())
+    names = set()
+    for v in out:
+        base = v.rsplit("/", 1)[-1]
+        if base and "$(" not in base and is_launch_path(base):
+            names.add(base)
+    return names
+
+
+def free_args_of_file(text: str, path: str, dialect: Optional[Dialect] = None) -> Optional[list[str]]:
+    """ROS 2: the top-level args checked as free booleans without a model.  ROS 1: None (the
+    project layer's ``free_top_args`` decides)."""
+    d = dialect or detect_dialect(path, text)
+    if not d.ros2:
+        return None
+    from .ros2 import free_args2
+    return free_args2(text, path)
 
 
 def load_any(path: str, args: Mapping[str, str], workspace_root: Optional[str] = None, read_file=None, *,

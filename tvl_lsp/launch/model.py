@@ -181,6 +181,8 @@ class LaunchAnalysis:
     params: list[ParamFact]
     root: Optional[Element] = None
     dialect: str = "ros1"               # "ros1" (roslaunch) or "ros2" (ros2/launch)
+    # ROS 2: top-level args with <choice> values: name -> (values, the <arg> element)
+    choices: dict = field(default_factory=dict)
 
 
 @dataclass

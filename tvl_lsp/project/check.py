@@ -114,12 +114,14 @@ def _launch_own(analysis) -> list[Diagnostic]:
 
 def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], root: Optional[str],
                  read_file: Optional[ReadFile] = None, models: Optional[dict] = None,
-                 timeout: Optional[float] = 10.0, hints=None, configs: Optional[list[str]] = None
-                 ) -> list[Diagnostic]:
+                 timeout: Optional[float] = 10.0, hints=None, configs: Optional[list[str]] = None,
+                 partial: bool = False) -> list[Diagnostic]:
     """A launch file's diagnostics: its own, the cross-checks of each pairing, and, with node
-    ``hints`` (:meth:`Workspace.hints_for`), the computation graph's checks."""
+    ``hints`` (:meth:`Workspace.hints_for`), the computation graph's checks.  ROS 1 or ROS 2,
+    by the file's dialect; ``partial``: a ROS 2 file other launch files include (see
+    :func:`tvl_lsp.launch.ros2.analyse_launch2`), for its check without a model."""
     from ..analysis.crosscheck import cross_check
-    from ..launch import analyse_launch
+    from ..launch import analyse_any, dialect_of
     read_file = read_file or default_read_file
     if text is None:
         text = read_file(path)
@@ -128,6 +130,7 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
     models = {} if models is None else models
     out: list[Diagnostic] = []
     done_alone = False
+    dialect = dialect_of(path, text)
     for p in pairings or [Pairing(path, None, "none")]:
         info = None
         if p.model is not None:
@@ -138,14 +141,23 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
             if done_alone:
                 continue
             done_alone = True
+        pairings_of_choices = None
+        selectors = None
         if info is not None:
             enc = info.analysis.encoding
             features = [enc.name_of(f) for f in enc.features]
             features += [n for n in free_top_args(text, path) if enc.feature_by_name(n) is None]
+            if dialect.ros2:
+                from ..analysis.choices import pair_choices
+                from ..launch.ros2 import choice_args
+                pairings_of_choices = pair_choices(choice_args(text, path), enc)
+                selectors = {k: p.selectors for k, p in pairings_of_choices.items() if p.selectors is not None}
+                features = [f for f in features if f not in pairings_of_choices]
         else:
             features = free_top_args(text, path)
         try:
-            la = analyse_launch(text, path, workspace_root=root, read_file=read_file, features=features)
+            la = analyse_any(text, path, workspace_root=root, read_file=read_file, features=features,
+                             choices=selectors, dialect=dialect, partial=partial and info is None)
         except Exception as exc:
             out.append(_internal(path, f"launch analysis failed: {exc!r}"))
             continue
@@ -169,7 +181,7 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
         try:
             if info is not None:
                 cur = cross_check(la, info.model, info.analysis.encoding, launch_text=text, model_path=p.model,
-                                  analysis=info.analysis)
+                                  analysis=info.analysis, choices=pairings_of_choices)
                 out += [_note_pairing(d, p, root or os.path.dirname(path)) for d in cur]
             else:
                 out += cross_check(la, None, None, launch_text=text)
@@ -220,8 +232,12 @@ def free_top_args(text: str, path: str) -> list[str]:
     value or inside ``$(eval)``.  An arg also used as a string (a name, a file) keeps its
     default: ``true`` / ``false`` would be meaningless there; so does one an ``$(eval)`` compares
     with a string (``arg('robot') == 'pmb2'``).  With a model, the features are
-    added to these (and those naming no feature are reported as ``unmatched-arg``)."""
-    from ..launch import parse_xml
+    added to these (and those naming no feature are reported as ``unmatched-arg``).  A ROS 2
+    file: :func:`tvl_lsp.launch.ros2.free_args2`."""
+    from ..launch import free_args_of_file, parse_xml
+    ros2 = free_args_of_file(text, path)
+    if ros2 is not None:
+        return ros2
     doc = parse_xml(text, path)
     if doc.root is None or doc.root.tag != "launch":
         return []
@@ -267,7 +283,8 @@ def free_top_args(text: str, path: str) -> list[str]:
 def _note_pairing(d: Diagnostic, p: Pairing, root: str) -> Diagnostic:
     """Cross-check diagnostics say which pairing they come from (related: the pairing, its
     paths relative to the workspace root, as the Problems panel shows them)."""
-    if d.witness is None and d.code not in ("missing-arg", "unmatched-arg", "dead-element", "constant-condition"):
+    if d.witness is None and d.code not in ("missing-arg", "unmatched-arg", "dead-element", "constant-condition",
+                                            "choice-mismatch"):
         return d
     if p.source_path and p.source_span and not any(r.path == p.source_path and r.span == p.source_span
                                                     for r in d.related):
@@ -285,6 +302,7 @@ class _Unit:
     root: Optional[str]
     timeout: Optional[float] = 10.0
     hints: tuple = ()               # ((launch path, ProjectHints, configuration names | None), ...)
+    partial: frozenset = frozenset()  # ROS 2 launch files other launch files include
 
 
 def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnostic]:
@@ -301,7 +319,8 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
         for lf, pairings, root in unit.launches:
             h, c = hints.get(lf, (None, None))
             try:
-                out += check_launch(lf, None, pairings, root, read_file, models, unit.timeout, h, c)
+                out += check_launch(lf, None, pairings, root, read_file, models, unit.timeout, h, c,
+                                    partial=lf in unit.partial)
             except Exception as exc:
                 out.append(_internal(lf, f"check failed: {exc!r}"))
     except Exception as exc:
@@ -356,6 +375,7 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
     alone: list = []
     root_of: dict[str, str] = {}
     hints_of: dict[str, tuple] = {}
+    partial_files: set[str] = set()
     for lf in targets.launches:
         r, ws = ws_for(lf)
         root_of[lf] = r
@@ -373,6 +393,11 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
         modelled = [p for p in pairings if p.model is not None]
         if not modelled:
             alone.append((lf, tuple(pairings), r))
+            try:
+                if ws.is_partial(lf):
+                    partial_files.add(lf)
+            except Exception as exc:
+                pre.append(_internal(lf, f"looking for includers failed: {exc!r}"))
         for p in modelled:
             by_model.setdefault(p.model, []).append((lf, (p,), r))
     target_models = set(targets.models)
@@ -385,7 +410,8 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
     for i in range(0, len(alone), LAUNCH_BATCH):
         batch = tuple(alone[i:i + LAUNCH_BATCH])
         units.append(_Unit(None, False, batch, root_of[batch[0][0]], timeout,
-                           tuple(hints_of[x[0]] for x in batch if x[0] in hints_of)))
+                           tuple(hints_of[x[0]] for x in batch if x[0] in hints_of),
+                           frozenset(x[0] for x in batch if x[0] in partial_files)))
     nfiles = len(targets.launches) + len(targets.models) + len(targets.yamls)
     return units, pre, nfiles
 
@@ -477,7 +503,12 @@ def check_document(path: str, text: Optional[str] = None, read_file: Optional[Re
         ws = workspace or _workspace(rts, read)
         pairings, pdiags = ws.pair(path, text)
         hints, configs = ws.hints_for(path, named_only=True)
-        out = list(pdiags) + check_launch(path, text, pairings, rts[0], read, None, timeout, hints, configs)
+        try:
+            partial = ws.is_partial(path, text)
+        except Exception:
+            partial = False
+        out = list(pdiags) + check_launch(path, text, pairings, rts[0], read, None, timeout, hints, configs,
+                                          partial=partial)
         return _dedupe_sort(d for d in out if d.path == path)
     if is_yaml(path):
         from .workspace import parse_project

@@ -6,7 +6,8 @@ server passes one that prefers the editor's unsaved buffers); only :func:`discov
 :func:`find_workspace_root` look at the file system's directory structure.
 
 Files
-    ``*.tvl`` (models), ``*.launch`` / ``*.launch.xml`` (roslaunch files), HAROS project files
+    ``*.tvl`` (models), ``*.launch`` / ``*.launch.xml`` (roslaunch and ros2/launch files),
+    ``*.launch.yaml`` / ``*_launch.xml`` / ``*_launch.yaml`` (ros2/launch files), HAROS project files
     (a ``*.yaml`` / ``*.yml`` whose top level has ``configurations``) and ``package.xml``
     (ROS packages: its ``<name>`` names the folder it is in).  The folders ``.git``, ``build``,
     ``devel``, ``install`` and ``node_modules`` are skipped, and so are hidden folders (``.venv``,
@@ -29,10 +30,12 @@ Pairing a launch file with a model — the first rule that applies wins:
 
        <!-- tvl-lsp: model=../models/robot.tvl -->
 
-   The path is relative to the launch file's folder (``$(find pkg)/...`` also works);
+   In a YAML launch file: ``# tvl-lsp: model=../models/robot.tvl``.
+   The path is relative to the launch file's folder (``$(find pkg)/...`` and
+   ``$(find-pkg-share pkg)/...`` also work);
    ``model=none`` turns pairing off for the file (it is then checked alone).
 3. ``same-stem``: ``robot.tvl`` in the same folder as ``robot.launch`` /
-   ``robot.launch.xml``.
+   ``robot.launch.xml`` / ``robot.launch.yaml``.
 
 A launch file that none of these pair is checked alone (``Pairing.model is None``,
 ``rule == "none"``).  Problems with project files or markers (malformed YAML, a named file that
@@ -50,6 +53,8 @@ from typing import Callable, Iterable, Optional
 from ..base.diagnostics import Diagnostic, Severity, register
 from ..base.text import LineIndex, Pos, Span
 from ..graph.hints import ProjectHints, parse_hints
+from ..launch.dialects import LAUNCH_SUFFIXES as _LAUNCH_SUFFIXES
+from ..launch.dialects import launch_stem as _launch_stem
 
 ReadFile = Callable[[str], Optional[str]]
 
@@ -64,8 +69,9 @@ MARKER_MODEL_NOT_FOUND = register(
     "marker-model-not-found", Severity.ERROR,
     "The model named by a `<!-- tvl-lsp: model=... -->` marker does not exist.", "workspace")
 
-SKIP_DIRS = frozenset({".git", "build", "devel", "install", "node_modules"})
-LAUNCH_SUFFIXES = (".launch", ".launch.xml")
+SKIP_DIRS = frozenset({".git", "build", "devel", "install", "log", "node_modules"})
+# roslaunch's .launch / .launch.xml; ros2/launch's .launch.xml, .launch.yaml and *_launch.xml / *_launch.yaml
+LAUNCH_SUFFIXES = _LAUNCH_SUFFIXES
 MODEL_SUFFIXES = (".tvl",)
 YAML_SUFFIXES = (".yaml", ".yml")
 MAX_PROJECT_BYTES = 2_000_000
@@ -89,11 +95,7 @@ def is_yaml(path: str) -> bool:
 
 
 def launch_stem(path: str) -> str:
-    base = os.path.basename(path)
-    for suf in (".launch.xml", ".launch"):
-        if base.endswith(suf):
-            return base[: -len(suf)]
-    return os.path.splitext(base)[0]
+    return _launch_stem(path)
 
 
 def default_read_file(path: str) -> Optional[str]:
@@ -509,7 +511,9 @@ def parse_project(path: str, text: str, packages: dict) -> Optional[ProjectFile]
 
 
 MARKER_RE = re.compile(
-    r"<!--\s*tvl-lsp\s*:\s*model\s*=\s*(?:\"(?P<q>[^\"]*)\"|'(?P<s>[^']*)'|(?P<p>[^\s\"'>]+?))\s*-->")
+    r"<!--\s*tvl-lsp\s*:\s*model\s*=\s*(?:\"(?P<q>[^\"]*)\"|'(?P<s>[^']*)'|(?P<p>[^\s\"'>]+?))\s*-->"
+    # a YAML launch file's comment: # tvl-lsp: model=robot.tvl
+    r"|(?m:^[ \t]*#\s*tvl-lsp\s*:\s*model\s*=\s*(?:\"(?P<q2>[^\"\n]*)\"|'(?P<s2>[^'\n]*)'|(?P<p2>[^\s\"']+))[ \t]*$)")
 
 
 def find_marker(text: str) -> Optional[tuple[str, int, int]]:
@@ -517,7 +521,7 @@ def find_marker(text: str) -> Optional[tuple[str, int, int]]:
     m = MARKER_RE.search(text)
     if not m:
         return None
-    g = "q" if m.group("q") is not None else "s" if m.group("s") is not None else "p"
+    g = next(k for k in ("q", "s", "p", "q2", "s2", "p2") if m.group(k) is not None)
     return m.group(g), m.start(g), m.end(g)
 
 
@@ -561,7 +565,7 @@ class Workspace:
             span = idx.span(s, e)
             if ref.strip().lower() == "none":
                 return [Pairing(launch, None, RULE_MARKER, launch, span)], []
-            m = re.match(r"\$\(find\s+([^)\s]+)\)/?(.*)$", ref)
+            m = re.match(r"\$\((?:find|find-pkg-share)\s+([^)\s]+)\)/?(.*)$", ref)
             if m:
                 folder = nearest_package(m.group(1), os.path.dirname(launch), self.all_packages or self.packages)
                 cand = norm(os.path.join(folder, m.group(2))) if folder else None
@@ -607,6 +611,28 @@ class Workspace:
             if pf.path in files and pf.hints:
                 out = out.merge(pf.hints)
         return out, configs
+
+    def included_launch_names(self) -> set[str]:
+        """Base names of the launch files some launch file of the workspace includes."""
+        got = getattr(self, "_included_cache", None)
+        if got is None:
+            from ..launch import include_targets
+            got = set()
+            for lf in self.files.launches:
+                text = self.read_file(lf)
+                if text:
+                    got |= include_targets(text)
+            object.__setattr__(self, "_included_cache", got)
+        return got
+
+    def is_partial(self, launch: str, text: Optional[str] = None) -> bool:
+        """A ROS 2 launch file that another launch file includes: it may read launch
+        configurations its includers set (ros2/launch does not scope them) without declaring
+        them.  Checked on its own, such reads are not errors (see ``analyse_launch2``)."""
+        if os.path.basename(launch) not in self.included_launch_names():
+            return False
+        from ..launch import dialect_of
+        return dialect_of(launch, text).ros2
 
     def launches_for_model(self, model: str) -> list[Pairing]:
         """Every pairing of a launch file of this workspace with ``model``."""

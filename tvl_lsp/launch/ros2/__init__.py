@@ -14,8 +14,8 @@ presence conditions and exact ranges, nodes, error facts, includes), so that eve
 hover, navigation and code action works on ROS 2 files unchanged.
 """
 
-from .api import Launch2Result, analyse_launch2, free_args2, load_launch2
+from .api import Launch2Result, analyse_launch2, choice_args, free_args2, load_launch2
 from .dialect import Dialect, detect_dialect, is_ros2_path
 
-__all__ = ["analyse_launch2", "load_launch2", "free_args2", "Launch2Result", "Dialect", "detect_dialect",
+__all__ = ["analyse_launch2", "choice_args", "load_launch2", "free_args2", "Launch2Result", "Dialect", "detect_dialect",
            "is_ros2_path"]

@@ -177,12 +177,16 @@ def choice_cases(name: str, choices: list[str], selectors: Optional[list[tuple[F
 def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, read_file=None, *,
                     features: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None,
                     packages: Optional[Mapping[str, str]] = None,
-                    choices: Optional[Mapping[str, list[tuple[Formula, str]]]] = None) -> LaunchAnalysis:
+                    choices: Optional[Mapping[str, list[tuple[Formula, str]]]] = None,
+                    partial: bool = False) -> LaunchAnalysis:
     """Analyse a ROS 2 launch file for all assignments of its feature args at once.
 
     ``features``: the args to treat as free booleans (the paired model's features); if None,
     :func:`free_args_of`.  ``choices``: arg name -> [(formula, value)] for args with <choice>
-    paired with alternatives of the model (others with <choice> get auxiliary variables)."""
+    paired with alternatives of the model (others with <choice> get auxiliary variables).
+    ``partial``: the file is included by another launch file (and launched by none on its own):
+    launch configurations it reads without declaring them come from its includers, so a missing
+    one is unknown here rather than an error (the includer's analysis checks them)."""
     path = os.path.abspath(path)
     env = os.environ if env is None else env
     if workspace_root is None and packages is None:
@@ -216,7 +220,12 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
         w.cur_file = [(TRUE, path)]
         sc = Scope()
         try:
-            needed = w.check_required(u, list(root_args), root_el, TRUE, root_el.tag_span or root_el.span, root=True)
+            if partial:
+                sc.opaque = TRUE
+                needed = []
+            else:
+                needed = w.check_required(u, list(root_args), root_el, TRUE, root_el.tag_span or root_el.span,
+                                          root=True)
             for k, v in root_args.items():
                 sc.configs[k] = [(c, x) for c, x in v if c != FALSE]
             for k in needed:  # the command line must give them (reported): their value is unknown
@@ -236,8 +245,24 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
             feature_decls.append(ArgDecl(a.name, el.span, at["name"].value_span,
                                          at["default"].value if "default" in at else None, None,
                                          a.description, path, el))
-    return LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, merge_facts(w.facts),
-                          w.includes, [], root_el)
+    la = LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, merge_facts(w.facts),
+                        w.includes, [], root_el, "ros2")
+    for d in feature_decls:
+        a = next((x for x in (u.actions if u.doc.root is not None else []) if isinstance(x, A.ArgA)
+                  and x.name == d.name and x.choices is not None), None)
+        if a is not None:
+            la.choices[d.name] = (list(a.choices), d.element)
+    return la
+
+
+def choice_args(text: str, path: str) -> dict[str, list[str]]:
+    """The top-level args with <choice> values: name -> values."""
+    from .frontend import parse_launch_file
+    doc = parse_launch_file(text, path)
+    if doc.root is None:
+        return {}
+    acts, _ = A.parse_description(doc.root, path)
+    return {a.name: list(a.choices) for a in acts if isinstance(a, A.ArgA) and a.choices is not None}
 
 
 def _run_timers(w: Walker, sc: Scope) -> None:

@@ -171,13 +171,15 @@ class IncludeRules:
                     self.fact(UNSET_ARG, f"arg '{a.name}' has no default: ros2 launch needs {a.name}:=... on the "
                               "command line", a.entity.path, aspan, c, W, launch=("RuntimeError", msg))
             else:
-                where = "" if not chain else f" (in {os.path.basename(a.entity.path)}, included by it)"
-                self.fact(UNSET_ARG, f"{os.path.basename(u.path)} requires the arg '{a.name}'{where}, which this "
-                          "<include> does not pass (an arg with no default must be passed explicitly, even if it "
-                          "is set here)", el.path, span, c,
-                          related=[(a.entity.path, a.entity.attrs["name"].value_span if "name" in a.entity.attrs
-                                    else a.entity.tag_span, f"'{a.name}' is declared here without a default")],
-                          launch=("RuntimeError", msg))
+                # reported in the included file, at the declaration (the cross-check shows it on
+                # the <include> of the analysed file, as an error: no command line reaches it)
+                where = "" if not chain else f", which {os.path.basename(u.path)} includes,"
+                aspan = a.entity.attrs["name"].value_span if "name" in a.entity.attrs else a.entity.tag_span
+                self.fact(UNSET_ARG, f"arg '{a.name}' of {os.path.basename(a.entity.path)}{where} has no default "
+                          f"and the <include> of {os.path.basename(u.path)} on line {el.span.start.line + 1} of "
+                          f"{os.path.basename(el.path)} does not pass it (an arg without default must be passed "
+                          "by the include itself, even if it is set where the include is)", a.entity.path, aspan, c,
+                          related=[(el.path, span, "the <include>")], launch=("RuntimeError", msg))
         return reported
 
     def lookahead(self, u: Unit) -> list:
