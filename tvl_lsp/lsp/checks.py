@@ -15,7 +15,8 @@ log = logging.getLogger("tvl_lsp.server")
 
 Reader = Callable[[str], Optional[str]]
 
-LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".test")
+LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".test", ".launch.yaml", ".launch.yml", "_launch.xml",
+                   "_launch.yaml", "_launch.yml")
 
 
 def file_kind(path: str) -> Optional[str]:
@@ -46,8 +47,8 @@ def parse_document(kind: str, path: str, text: str, read: Reader, roots: Sequenc
         from ..tvl import parse_model
         return parse_model(text, path, read_file=read)
     if kind == "launch":
-        from ..launch import analyse_launch
-        return analyse_launch(text, path, workspace_root=_root_for(path, roots), read_file=read)
+        from ..launch import analyse_any
+        return analyse_any(text, path, workspace_root=_root_for(path, roots), read_file=read)
     return None
 
 

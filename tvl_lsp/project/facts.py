@@ -247,12 +247,12 @@ _ARG_RE = None
 
 
 def arg_name_span(subst, index) -> Optional[Span]:
-    """The span of X in ``$(arg X)`` (the subst span is the whole ``$(...)``); ``index`` is
-    the LineIndex of the file's text."""
+    """The span of X in ``$(arg X)`` / ROS 2's ``$(var X)`` (the subst span is the whole
+    ``$(...)``); ``index`` is the LineIndex of the file's text."""
     import re
     global _ARG_RE
     if _ARG_RE is None:
-        _ARG_RE = re.compile(r"\$\(\s*arg\s+([^\s)]+)")
+        _ARG_RE = re.compile(r"\$\(\s*(?:arg|var)\s+([^\s)]+)")
     a, b = index.offset(subst.span.start), index.offset(subst.span.end)
     m = _ARG_RE.match(index.text, a, b)
     if not m:
@@ -269,11 +269,11 @@ def arg_decls(analysis, path: str, name: str) -> list:
 
 
 def arg_uses(analysis, path: str, name: str) -> list:
-    """(element, subst) for every ``$(arg name)`` in the file."""
+    """(element, subst) for every ``$(arg name)`` (``$(var name)``) in the file."""
     out = []
     for e in own_elements(analysis, path):
         for s in e.substitutions:
-            if s.kind == "arg" and s.args and s.args[0] == name:
+            if s.kind in ("arg", "var") and s.args and s.args[0] == name:
                 out.append((e, s))
     return out
 

@@ -1,8 +1,15 @@
-"""``tvl-lsp launch FILE [name:=value ...] [--json] [--workspace DIR]``
+"""``tvl-lsp launch FILE [name:=value ...] [--json] [--workspace DIR] [--dialect ros1|ros2] [--strict-packages]``
 
-Prints what roslaunch would load from FILE under these args: the resolved nodes (name,
-pkg, type, namespace), params, remaps and the include tree, or the load error roslaunch
-would raise (exit status 1).
+Prints what roslaunch (ROS 1) or ros2 launch (ROS 2: .launch.xml / .launch.yaml) would start
+from FILE under these args, without starting anything: the resolved nodes (full name,
+package, executable, namespace, remaps, params), the include tree, or the error launch would
+raise (exit status 1).
+
+ROS 2: ``$(find-pkg-share pkg)`` of a workspace package is its source folder; a package that is
+neither in the workspace nor in ``AMENT_PREFIX_PATH`` counts as installed with an empty share
+folder (``--strict-packages``: launch's "package not found" error instead).  Python launch
+files are never executed: ``launch`` stops at an include of one.  The dialect of a
+``.launch.xml`` file is detected (``--dialect`` forces it).
 """
 
 from __future__ import annotations
@@ -11,12 +18,14 @@ import json
 import os
 import sys
 
-from ...launch import load_launch
+from ...launch import dialect_of, load_launch
 
 
 def main(argv: list[str]) -> int:
     as_json = False
     workspace = None
+    dialect = None
+    strict = False
     path = None
     args: dict[str, str] = {}
     i = 0
@@ -32,6 +41,13 @@ def main(argv: list[str]) -> int:
             workspace = argv[i]
         elif a.startswith("--workspace="):
             workspace = a.split("=", 1)[1]
+        elif a == "--dialect" and i + 1 < len(argv) and argv[i + 1] in ("ros1", "ros2"):
+            i += 1
+            dialect = argv[i]
+        elif a.startswith("--dialect=") and a.split("=", 1)[1] in ("ros1", "ros2"):
+            dialect = a.split("=", 1)[1]
+        elif a == "--strict-packages":
+            strict = True
         elif ":=" in a and path is not None:
             k, v = a.split(":=", 1)
             args[k] = v
@@ -42,9 +58,14 @@ def main(argv: list[str]) -> int:
             return 2
         i += 1
     if path is None:
-        print("usage: tvl-lsp launch FILE [name:=value ...] [--json] [--workspace DIR]", file=sys.stderr)
+        print("usage: tvl-lsp launch FILE [name:=value ...] [--json] [--workspace DIR] [--dialect ros1|ros2] "
+              "[--strict-packages]", file=sys.stderr)
         return 2
     path = os.path.abspath(path)
+    if dialect is None:
+        dialect = dialect_of(path).dialect
+    if dialect == "ros2":
+        return _ros2(path, args, workspace, as_json, strict)
     res = load_launch(path, args, workspace_root=workspace)
     if as_json:
         out = {"file": path, "args": args, "nodes": res.nodes, "params": res.params, "remaps": res.remaps,
@@ -77,4 +98,42 @@ def main(argv: list[str]) -> int:
             show(res.includes, 0)
         for wmsg in res.warnings:
             print(f"warning: {wmsg}")
+    return 1 if res.error is not None else 0
+
+
+def _ros2(path: str, args: dict, workspace, as_json: bool, strict: bool) -> int:
+    from ...launch.ros2 import load_launch2
+    res = load_launch2(path, args, workspace_root=workspace, stub_packages=not strict)
+    if as_json:
+        print(json.dumps(res.to_json(), indent=2, sort_keys=False, default=str))
+        return 1 if res.error is not None else 0
+    print("nodes:")
+    for n in res.nodes:
+        what = f"{n['package']}/{n['executable']}" if n["executable"] else f"{n['package']} (composable)"
+        ns = n["namespace"] or "/"
+        print(f"  {n['name'] or '(named by the executable)'}  ({what}, ns {ns})")
+        for f_, t_ in n["remaps"]:
+            print(f"      remap {f_} -> {t_}")
+        for k, v in n["params"].items():
+            print(f"      param {k} = {v!r}")
+        for f_ in n["param_files"]:
+            print(f"      params from {f_}")
+    if res.executables:
+        print("executables:")
+        for e in res.executables:
+            print(f"  {e['process_name']}: {' '.join(e['cmd'])}")
+    if res.includes:
+        print("includes:")
+
+        def show(incs, depth):
+            for inc in incs:
+                state = "" if inc["followed"] else "  (not followed)"
+                print("  " + "  " * depth + f"{inc['file']}{state}")
+                show(inc["includes"], depth + 1)
+        show(res.includes, 0)
+    for wmsg in res.warnings:
+        print(f"warning: {wmsg}")
+    if res.error is not None:
+        where = f" ({os.path.relpath(res.error_path)}:{res.error_line})" if res.error_path else ""
+        print(f"error: {res.error} [{res.error_code}]{where}")
     return 1 if res.error is not None else 0

@@ -157,18 +157,16 @@ def free_args2(text: str, path: str) -> list[str]:
 def choice_cases(name: str, choices: list[str], selectors: Optional[list[tuple[Formula, str]]] = None):
     """The cases of an arg with <choice> values as a free variable: ``selectors`` (a model's
     alternatives: formula -> value), or, alone, one value per choice through auxiliary
-    variables ``name=value`` (the last choice when none of the others)."""
+    variables ``name=value`` (the first true one), and not set at all when none is (the
+    default applies, or launch says the arg is required)."""
     if selectors is not None:
         return [(f, v) for f, v in selectors]
     out = []
     rest: list[Formula] = []
-    for i, c in enumerate(choices):
-        if i == len(choices) - 1:
-            out.append((conj(rest) if rest else TRUE, c))
-        else:
-            v = Var(f"{name}={c}")
-            out.append((conj(rest + [v]), c))
-            rest.append(neg(v))
+    for c in choices:
+        v = Var(f"{name}={c}")
+        out.append((conj(rest + [v]), c))
+        rest.append(neg(v))
     return out
 
 
@@ -212,10 +210,11 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
         for f in free:
             root_args[f] = [(Var(f), "true"), (neg(Var(f)), "false")]
         for a in tops:
-            if a.choices is not None and a.name not in root_args:
+            if a.choices is not None:
+                # an arg with <choice> values is never a boolean: its values are the choices
                 sel = (choices or {}).get(a.name)
                 root_args[a.name] = choice_cases(a.name, a.choices, sel)
-                free.append(a.name) if sel is None else None
+                free = [f for f in free if f != a.name]
         w.free = set(root_args)
         w.cur_file = [(TRUE, path)]
         sc = Scope()
@@ -390,7 +389,8 @@ def load_launch2(path: str, args: Mapping[str, str], workspace_root: Optional[st
                  "line": i.element.span.start.line + 1, "includes": inc_tree(i.children)}
                 for i in incs if i.condition == TRUE]
     res.includes = inc_tree(w.includes)
-    res.warnings = list(w.warnings) + [f.message for f in w.facts if f.condition == TRUE and f.severity != E]
+    res.warnings = list(w.warnings) + [f.message for f in w.facts if f.condition == TRUE and f.severity != E
+                                       and f.code != "param-file-not-found"]
     res.not_analysed = list(w.python_includes)
     res.logs = list(w.logs)
     return res

@@ -30,7 +30,8 @@ _ROS2 = [(re.compile(p), w) for p, w in (
     (r"\$\(var\s", 3), (r"<node\b[^>]*\sexec\s*=", 3), (r"<let\b", 3), (r"\$\(find-pkg-(share|prefix)\s", 3),
     (r"<push[_-]ros[_-]namespace\b", 3), (r"<set_remap\b", 3), (r"<set_parameter\b", 3),
     (r"<executable\b", 2), (r"<node\b[^>]*\snamespace\s*=", 2), (r"<arg\b[^>]*\sdescription\s*=", 1),
-    (r"<choice\b", 2), (r"\$\((not|and|or|equals|not-equals|dirname|filename)[\s)]", 2),
+    (r"<choice\b", 2), (r"\$\((not|and|or|equals|not-equals|filename)[\s)]", 2),
+    (r"<include\b[^>]*\sfile\s*=\s*[\"'][^\"']*\.launch\.(py|yaml|yml)[\"']", 2),
     (r"<node_container\b", 3), (r"<composable_node\b", 3), (r"<set_env\b", 2), (r"<unset_env\b", 2),
     (r"<group\b[^>]*\s(scoped|forwarding)\s*=", 3), (r"<keep\b", 3), (r"\$\(exec-in-pkg\s", 3),
     (r"<param\b[^>]*\sfrom\s*=", 2))]
@@ -38,7 +39,8 @@ _ROS1 = [(re.compile(p), w) for p, w in (
     (r"\$\(arg\s", 3), (r"<node\b[^>]*\stype\s*=", 3), (r"\$\(find\s", 3), (r"<rosparam\b", 3),
     (r"<(node|group|include)\b[^>]*\sns\s*=", 2), (r"<arg\b[^>]*\sdoc\s*=", 1), (r"<machine\b", 3),
     (r"<test\b", 2), (r"pass_all_args\s*=", 3), (r"\$\(optenv\s", 3), (r"<param\b[^>]*\s(textfile|binfile|command)\s*=", 2),
-    (r"clear_params\s*=", 2), (r"<master\b", 3))]
+    (r"clear_params\s*=", 2), (r"<master\b", 3),
+    (r"<include\b[^>]*\sfile\s*=\s*[\"'][^\"']*\.launch[\"']", 1))]
 
 
 @dataclass(frozen=True)

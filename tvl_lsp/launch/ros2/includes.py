@@ -141,7 +141,9 @@ class IncludeRules:
         """Is ``path`` inside a package of the workspace (where a missing file is a mistake, not
         just a file of another machine)?"""
         p = os.path.realpath(path)
-        return any(p.startswith(os.path.realpath(f).rstrip("/") + "/") for f in self.packages.values())
+        homes = list(self.packages.values()) + ([self.root] if self.root else []) + \
+            ([os.path.dirname(self.root_path)] if self.root_path else [])
+        return any(p.startswith(os.path.realpath(f).rstrip("/") + "/") for f in homes)
 
     # -- the required-argument check (IncludeLaunchDescription.execute)
     def check_required(self, u: Unit, given: list[str], el: Element, c: Formula, span: Span, root: bool) -> list:

@@ -219,9 +219,9 @@ async def launch_hover(ls, doc, pos):
     hit = F.subst_at(analysis, doc.path, pos)
     if hit is not None:
         el, s = hit
-        if s.kind == "arg" and s.args:
+        if s.kind in ("arg", "var") and s.args:
             return await arg_markdown(ls, doc, analysis, s.args[0]), s.span
-        if s.kind == "find" and s.args:
+        if s.kind in ("find", "find-pkg-share", "find-pkg-prefix") and s.args:
             pkg_dir = None
             try:
                 pkg_dir = ls.workspace_model(doc.path).packages.get(s.args[0])

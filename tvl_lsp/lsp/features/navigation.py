@@ -60,7 +60,7 @@ async def symbol_at(ls, doc, pos) -> Optional[Symbol]:
         return None
     name = span = None
     hit = F.subst_at(analysis, doc.path, pos)
-    if hit is not None and hit[1].kind == "arg" and hit[1].args:
+    if hit is not None and hit[1].kind in ("arg", "var") and hit[1].args:
         name = hit[1].args[0]
         span = F.arg_name_span(hit[1], doc.index) or hit[1].span
     else:
