@@ -124,8 +124,9 @@ def choice_diagnostics(launch, pairings: dict[str, ChoicePairing], model_name: s
             miss = ", ".join(f"`{m}`" for m in p.missing)
             out.append(Diagnostic(
                 CHOICE_MISMATCH, Severity.WARNING, launch.path, arg_span,
-                f"arg `{name}` has no <choice> for {miss} of {where} in {model_name}: a configuration that "
-                f"selects it makes ros2 launch stop (Argument \"{name}\" provided value ... is not valid)",
+                f"arg `{name}` has no <choice> for {miss} of {where} in {model_name}: the products that select "
+                f"it have no value for the arg (and {name}:={p.missing[0]} makes ros2 launch stop: Argument "
+                f"\"{name}\" provided value \"{p.missing[0]}\" is not valid)",
                 related=rel, data={"arg": name, "missing": list(p.missing)}))
     return out
 

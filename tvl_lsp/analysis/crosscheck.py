@@ -197,8 +197,9 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             out += choice_diagnostics(launch, choices, model_name)
         unmatched_feature_names = [encoding.name_of(f) for f in features if id(f) not in matched_features]
         all_feature_names = [encoding.name_of(f) for f in features]
+        paired_choices = {k for k, p in (choices or {}).items() if p.kind is not None}
         for a in feature_args:
-            if a.name in by_arg:
+            if a.name in by_arg or a.name in paired_choices:
                 continue
             sug = _closest(a.name, unmatched_feature_names)
             also = None if sug else _closest(a.name, all_feature_names)
@@ -446,7 +447,8 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
     # args a user can set on the command line although they are not free booleans here: a
     # declaration with a default (roslaunch lets the command line override it).  A condition
     # that reads one of them is only "dead" / "constant" for its default value: not reported.
-    free_set = set(getattr(launch, "free_args", None) or ())
+    # (a ROS 2 arg with <choice> values is analysed for each of them: not just its default)
+    free_set = set(getattr(launch, "free_args", None) or ()) | set(getattr(launch, "choices", None) or ())
     overridable = {e.attrs["name"].value for e in launch.elements
                    if e.tag == "arg" and "name" in e.attrs and "default" in e.attrs and "value" not in e.attrs
                    and e.path == launch.path} - free_set

@@ -104,14 +104,15 @@ def include_targets(text: str) -> set[str]:
     return names
 
 
-def free_args_of_file(text: str, path: str, dialect: Optional[Dialect] = None) -> Optional[list[str]]:
+def free_args_of_file(text: str, path: str, dialect: Optional[Dialect] = None,
+                      unused: bool = False) -> Optional[list[str]]:
     """ROS 2: the top-level args checked as free booleans without a model.  ROS 1: None (the
     project layer's ``free_top_args`` decides)."""
     d = dialect or detect_dialect(path, text)
     if not d.ros2:
         return None
     from .ros2 import free_args2
-    return free_args2(text, path)
+    return free_args2(text, path, unused)
 
 
 def load_any(path: str, args: Mapping[str, str], workspace_root: Optional[str] = None, read_file=None, *,

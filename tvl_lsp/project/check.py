@@ -146,7 +146,7 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
         if info is not None:
             enc = info.analysis.encoding
             features = [enc.name_of(f) for f in enc.features]
-            features += [n for n in free_top_args(text, path) if enc.feature_by_name(n) is None]
+            features += [n for n in free_top_args(text, path, paired=True) if enc.feature_by_name(n) is None]
             if dialect.ros2:
                 from ..analysis.choices import pair_choices
                 from ..launch.ros2 import choice_args
@@ -225,7 +225,7 @@ def _string_compared(value: str) -> set[str]:
     return out
 
 
-def free_top_args(text: str, path: str) -> list[str]:
+def free_top_args(text: str, path: str, paired: bool = False) -> list[str]:
     """The top-level args checked as free booleans: every direct ``<arg>`` child of
     ``<launch>`` without ``value`` (a default is only what roslaunch uses when the command
     line does not set it) that is used only as a boolean -- as a whole ``if`` / ``unless``
@@ -235,7 +235,7 @@ def free_top_args(text: str, path: str) -> list[str]:
     added to these (and those naming no feature are reported as ``unmatched-arg``).  A ROS 2
     file: :func:`tvl_lsp.launch.ros2.free_args2`."""
     from ..launch import free_args_of_file, parse_xml
-    ros2 = free_args_of_file(text, path)
+    ros2 = free_args_of_file(text, path, unused=paired)
     if ros2 is not None:
         return ros2
     doc = parse_xml(text, path)

@@ -89,7 +89,7 @@ def normalise_product(product, features: Sequence[str]) -> dict[str, bool]:
 
 
 def configuration_name(product: Mapping[str, bool], features: Sequence[str], prefix: str = "config",
-                       omit: Iterable[str] = ()) -> str:
+                       omit: Iterable[str] = (), suffix: str = ".launch") -> str:
     """Deterministic file name for a product: the selected features, in ``features`` order
     (leaving out ``omit``, e.g. the root, which every product selects)."""
     skip = set(omit)
@@ -98,18 +98,20 @@ def configuration_name(product: Mapping[str, bool], features: Sequence[str], pre
     if len(body) > 80:
         digest = hashlib.sha1("|".join(on).encode()).hexdigest()[:10]
         body = f"{body[:60]}-{digest}"
-    return f"{prefix}_{body}.launch"
+    return f"{prefix}_{body}{suffix}"
 
 
 def include_target(generic_path: str, package: Optional[str], package_dir: Optional[str],
-                   out_dir: Optional[str] = None) -> str:
-    """How the configuration file names the generic file: ``$(find pkg)/rel`` when the
-    generic file is in a package, else ``$(dirname)/rel`` relative to ``out_dir``."""
+                   out_dir: Optional[str] = None, dialect: str = "ros1") -> str:
+    """How the configuration file names the generic file: ``$(find pkg)/rel`` (ROS 2:
+    ``$(find-pkg-share pkg)/rel``) when the generic file is in a package, else
+    ``$(dirname)/rel`` relative to ``out_dir``."""
     gp = Path(generic_path).absolute()
     if package and package_dir:
         try:
             rel = gp.relative_to(Path(package_dir).absolute())
-            return f"$(find {package})/{rel.as_posix()}"
+            find = "find-pkg-share" if dialect == "ros2" else "find"
+            return f"$({find} {package})/{rel.as_posix()}"
         except ValueError:
             pass
     if out_dir:
@@ -130,6 +132,47 @@ def render_configuration(product: Mapping[str, bool], features: Sequence[str], i
     lines.append(f"{indent}</include>")
     lines.append("</launch>")
     return "\n".join(lines) + "\n"
+
+
+def render_configuration_ros2(product: Mapping[str, bool], features: Sequence[str], include_file: str,
+                              indent: str = "  ", choice_values: Optional[Mapping[str, str]] = None) -> str:
+    """A ROS 2 configuration launch file: the generic file included with each feature arg set
+    (ros2 launch passes an include's args on; no top-level args are needed), and each
+    ``<choice>`` arg set to the selected alternative."""
+    lines = ["<launch>", f"{indent}<include file={quoteattr(include_file)}>"]
+    for f in features:
+        lines.append(f'{indent * 2}<arg name={quoteattr(f)} value="{"true" if product.get(f) else "false"}"/>')
+    for name, value in (choice_values or {}).items():
+        lines.append(f"{indent * 2}<arg name={quoteattr(name)} value={quoteattr(value)}/>")
+    lines.append(f"{indent}</include>")
+    lines.append("</launch>")
+    return "\n".join(lines) + "\n"
+
+
+def ros2_choices(analysis, model) -> dict[str, dict[str, str]]:
+    """The ``<choice>`` args of a ROS 2 generic file that pair with an alternative group of the
+    model: arg -> {value: the feature that selects it} (tvl_lsp.analysis.choices)."""
+    if getattr(analysis, "dialect", "ros1") != "ros2" or not getattr(analysis, "choices", None) or model is None:
+        return {}
+    from ..analysis.choices import pair_choices
+    from ..analysis.encode import encode
+    enc = encode(model)
+    pairs = pair_choices({k: v[0] for k, v in analysis.choices.items()}, enc)
+    return {k: {v: f for v, f in p.by_value.items() if v in analysis.choices[k][0]}
+            for k, p in pairs.items() if p.kind == "group"}
+
+
+def choice_values(product: Mapping[str, bool], choices: Mapping[str, Mapping[str, str]]) -> dict[str, str]:
+    """The value of each paired ``<choice>`` arg in a product (the selected alternative)."""
+    selected = {str(k) for k, v in product.items() if v}
+    short = {x.rsplit(".", 1)[-1] for x in selected}
+    out = {}
+    for name, by_value in choices.items():
+        for value, feature in by_value.items():
+            if feature in selected or feature in short:
+                out[name] = value
+                break
+    return out
 
 
 def inside(path: str, roots: Iterable[str]) -> bool:
@@ -169,19 +212,34 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
                         roots: Sequence[str] = (), package: Optional[str] = None,
                         package_dir: Optional[str] = None, prefix: Optional[str] = None,
                         indent: str = "  ", limit: Optional[int] = None,
-                        omit: Iterable[str] = ()) -> list[GeneratedFile]:
-    """One :class:`GeneratedFile` per product (at most ``limit``), sorted by path."""
+                        omit: Iterable[str] = (), dialect: str = "ros1",
+                        choices: Optional[Mapping[str, Mapping[str, str]]] = None) -> list[GeneratedFile]:
+    """One :class:`GeneratedFile` per product (at most ``limit``), sorted by path.  ``dialect``
+    "ros2": ROS 2 files (``.launch.xml``, ``$(find-pkg-share)``, args passed to the include;
+    ``choices``: see :func:`ros2_choices`)."""
     if package is None and package_dir is None:
         package, package_dir = find_package(generic_path, stop_at=roots)
-    target = include_target(generic_path, package, package_dir, out_dir)
+    target = include_target(generic_path, package, package_dir, out_dir, dialect)
+    covered = {f for by in (choices or {}).values() for f in by.values()}
+    if dialect == "ros2":
+        features = [f for f in features if f not in (choices or {}) and f not in covered]
     prefix = prefix or Path(generic_path).name.split(".")[0]
     files: dict[str, GeneratedFile] = {}
     for i, prod in enumerate(products):
         if limit is not None and i >= limit:
             break
         p = normalise_product(prod, features)
-        path = str(Path(out_dir) / configuration_name(p, features, prefix, omit))
+        if dialect == "ros2":
+            cv = choice_values(prod if isinstance(prod, Mapping) else {x: True for x in prod}, choices or {})
+            named = dict(p)
+            named.update({v: True for v in cv.values()})
+            name = configuration_name(named, list(features) + list(cv.values()), prefix, omit, ".launch.xml")
+            path = str(Path(out_dir) / name)
+            text = render_configuration_ros2(p, features, target, indent, cv)
+        else:
+            path = str(Path(out_dir) / configuration_name(p, features, prefix, omit))
+            text = render_configuration(p, features, target, indent)
         if roots and not inside(path, roots):
             raise GenerateError(f"{path} would be outside the workspace")
-        files[path] = GeneratedFile(path, render_configuration(p, features, target, indent), p)
+        files[path] = GeneratedFile(path, text, p)
     return [files[k] for k in sorted(files)]

@@ -84,7 +84,7 @@ def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: O
                workspace: Optional[Workspace] = None, model: Optional[str] = None,
                project_files: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None) -> GraphContext:
     """Pair, parse, load symbolically and build the graph of ``launch`` (see the module doc)."""
-    from ..launch import analyse_launch
+    from ..launch import analyse_any
     from ..tvl import parse_model
     path = norm(launch)
     base_read = read_file or default_read_file
@@ -123,7 +123,7 @@ def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: O
         enc = ma.encoding
         features = [enc.name_of(f) for f in enc.features]
     free = [n for n in free_args_of(text, path) if enc is None or enc.feature_by_name(n) is None]
-    analysis = analyse_launch(text, path, workspace_root=root, read_file=read, features=features + free, env=env)
+    analysis = analyse_any(text, path, workspace_root=root, read_file=read, features=features + free, env=env)
     hints, configs = hints_for(workspace, path, read, project_files)
     graph = build_graph(analysis, hints, configs)
     graph.model = model_path

@@ -45,7 +45,8 @@ def main(argv: list[str]) -> int:
 
     from ...project.facts import generation_products
     from ...project.generate import GenerateError, plan_configurations, resolve_folder
-    from ...launch import analyse_launch
+    from ...launch import analyse_any
+    from ...project.generate import ros2_choices
     from ...tvl import parse_model
     from ...project.workspace import find_workspace_root, load_workspace, norm
 
@@ -86,7 +87,7 @@ def main(argv: list[str]) -> int:
     except KeyError as ex:
         print(f"tvl-lsp generate: {ex.args[0] if ex.args else ex}", file=sys.stderr)
         return 2
-    analysis = analyse_launch(ltext, launch, workspace_root=root)
+    analysis = analyse_any(ltext, launch, workspace_root=root)
     names = {f.name for f in res.model.features} | {f.long_name for f in res.model.features}
     features = [a.name for a in analysis.feature_args if a.name in names and getattr(a, "value", None) is None]
     package = ws.package_of(launch)
@@ -98,7 +99,8 @@ def main(argv: list[str]) -> int:
         files = plan_configurations(products, features, launch, out_dir, [root], package,
                                     ws.packages.get(package) if package else None,
                                     limit=limit if args.mode == "sample" else None,
-                                    omit=[res.model.root.name])
+                                    omit=[res.model.root.name], dialect=analysis.dialect,
+                                    choices=ros2_choices(analysis, res.model))
     except GenerateError as ex:
         print(f"tvl-lsp generate: {ex}", file=sys.stderr)
         return 2

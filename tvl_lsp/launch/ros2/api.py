@@ -75,7 +75,7 @@ def _root_diagnostics(w: Walker, path: str, errors: list) -> list[Diagnostic]:
 
 # ------------------------------------------------------------------ free args
 
-def _bool_uses(acts: list, names: set[str]) -> set[str]:
+def _bool_uses(acts: list, names: set[str], unused: bool = False) -> set[str]:
     """The top-level args used somewhere other than as a boolean: not free."""
     bad: set[str] = set()
     good: set[str] = set()
@@ -130,28 +130,29 @@ def _bool_uses(acts: list, names: set[str]) -> set[str]:
     visit(acts)
     # an arg never used here may be read by an included file (includes see every launch
     # configuration): free only when this file uses it, and only as a boolean
-    return (names & good) - bad
+    return ((names if unused else names & good)) - bad
 
 
-def free_args_of(actions: list) -> list[str]:
+def free_args_of(actions: list, unused: bool = False) -> list[str]:
     tops = [a for a in actions if isinstance(a, A.ArgA) and a.choices is None and "$(" not in a.name]
     names = [a.name for a in tops]
-    good = _bool_uses(actions, set(names))
+    good = _bool_uses(actions, set(names), unused)
     return [n for n in dict.fromkeys(names) if n in good]
 
 
-def free_args2(text: str, path: str) -> list[str]:
+def free_args2(text: str, path: str, unused: bool = False) -> list[str]:
     """The top-level args checked as free booleans when there is no model: every top-level
     ``<arg>`` (without <choice>) used here and whose every ``$(var X)`` is a whole ``if``/``unless`` value or
     an operand of ``$(not)``/``$(and)``/``$(or)``/``$(any)``/``$(all)``/the condition of
     ``$(if)`` (an arg also used as a string -- a name, a file, inside ``$(eval)`` or
-    ``$(equals)`` -- keeps its default)."""
+    ``$(equals)`` -- keeps its default).  ``unused``: args this file never reads count too (a
+    generic file paired with a model: its top-level args are the product's)."""
     from .frontend import parse_launch_file
     doc = parse_launch_file(text, path)
     if doc.root is None:
         return []
     acts, _ = A.parse_description(doc.root, path)
-    return free_args_of(acts)
+    return free_args_of(acts, unused)
 
 
 def choice_cases(name: str, choices: list[str], selectors: Optional[list[tuple[Formula, str]]] = None):

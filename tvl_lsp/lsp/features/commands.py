@@ -24,7 +24,7 @@ from typing import Any, Optional
 from lsprotocol import types
 from pygls.exceptions import JsonRpcInvalidParams
 
-from ...project.generate import GenerateError, plan_configurations, resolve_folder
+from ...project.generate import GenerateError, plan_configurations, resolve_folder, ros2_choices
 from ..convert import path_to_uri, uri_to_path
 from ...project import facts as F
 
@@ -206,7 +206,8 @@ async def plan(ls, opts: dict):
                                 title="Generating configurations")
     try:
         files = plan_configurations(products, features, launch, out_dir, roots, package, package_dir,
-                                    omit=[m.root.name] if m.root else ())
+                                    omit=[m.root.name] if m.root else (),
+                                    dialect=getattr(analysis, "dialect", "ros1"), choices=ros2_choices(analysis, m))
     except GenerateError as e:
         raise JsonRpcInvalidParams(str(e))
     return files, out_dir, mode != "one" and len(products) >= limit

@@ -1,5 +1,6 @@
 """Completion: TVL keywords, feature and attribute names; launch tags and attributes,
-``$(arg `` → args in scope and features, ``$(find `` → workspace packages."""
+``$(arg `` → args in scope and features, ``$(find `` → workspace packages.  ROS 2 files
+(XML and YAML): their tags / keys and attributes, ``$(var `` and ``$(find-pkg-share ``."""
 
 from __future__ import annotations
 
@@ -41,9 +42,11 @@ CHILD_TAGS = {
     "include": ["arg", "env"],
 }
 
-_SUBST_ARG = re.compile(r"\$\(\s*arg\s+([\w/\-.]*)$")
-_SUBST_FIND = re.compile(r"\$\(\s*find\s+([\w\-.]*)$")
-_SUBST_CMD = re.compile(r"\$\(\s*(\w*)$")
+_SUBST_ARG = re.compile(r"\$\(\s*(?:arg|var)\s+([\w/\-.]*)$")
+_SUBST_FIND = re.compile(r"\$\(\s*(?:find|find-pkg-share|find-pkg-prefix)\s+([\w\-.]*)$")
+_SUBST_CMD = re.compile(r"\$\(\s*([\w\-]*)$")
+_YAML_ITEM = re.compile(r"^(\s*)-\s*([\w\-]*)$")
+_YAML_KEY = re.compile(r"^(\s*)(?:-\s*)?([\w\-]*)$")
 _IN_TAG = re.compile(r"<([\w\-]+)(\s+[^<>]*)?$", re.S)
 _OPEN_TAG = re.compile(r"<([\w\-]*)$")
 
@@ -112,10 +115,58 @@ def _enclosing_tag(text_before: str) -> str:
     return stack[-1] if stack else ""
 
 
+def _ros2(doc) -> bool:
+    from ...launch import dialect_of
+    try:
+        return dialect_of(doc.path, doc.text).ros2
+    except Exception:
+        return False
+
+
+def _yaml_entity_above(doc, pos: Pos, indent: int) -> str:
+    """The entity whose keys a YAML line at ``indent`` completes: the nearest ``- tag:`` above
+    with a smaller indentation (or ``tag:`` of a mapping)."""
+    for ln in range(pos.line - 1, -1, -1):
+        t = doc.index.line_text(ln)
+        m = re.match(r"^(\s*)(-\s*)?([\w\-]+)\s*:", t)
+        if not m or not t.strip():
+            continue
+        ind = len(m.group(1)) + (len(m.group(2)) if m.group(2) else 0)
+        if ind < indent:
+            return m.group(3)
+    return ""
+
+
+def _yaml_items(doc, pos: Pos, line: str):
+    from ...launch.ros2.schema import CHILD_TAGS as R2_CHILD, TAG_ATTRS as R2_ATTRS
+    m = _YAML_ITEM.match(line)
+    if m:
+        parent = _yaml_entity_above(doc, pos, len(m.group(1)))
+        parent = "launch" if parent in ("children", "") else parent
+        tags = R2_CHILD.get(parent, R2_CHILD["launch"])
+        return [_item(t, types.CompletionItemKind.Keyword, f"{t}:", f"{i:02d}", insert=f"{t}:")
+                for i, t in enumerate(tags)]
+    m = _YAML_KEY.match(line)
+    if m:
+        tag = _yaml_entity_above(doc, pos, len(line) - len(line.lstrip(" -")) if line.strip() else len(line))
+        attrs = R2_ATTRS.get(tag, [])
+        kids = [c for c in R2_CHILD.get(tag, []) if c not in ("keep",) or tag == "group"]
+        out = [_item(a, types.CompletionItemKind.Property, f"attribute of {tag}", f"0{i:02d}", insert=f"{a}: ")
+               for i, a in enumerate(attrs)]
+        if tag == "group":
+            kids = ["children", "keep"]
+        out += [_item(k, types.CompletionItemKind.Module, f"list of {k} in {tag}", f"1{i:02d}", insert=f"{k}:")
+                for i, k in enumerate(kids) if k in ("remap", "param", "env", "arg", "choice", "keep", "children",
+                                                     "composable_node", "extra_arg")]
+        return out
+    return []
+
+
 async def launch_items(ls, doc, pos: Pos):
     offset = doc.index.offset(pos)
     before = doc.text[max(0, offset - 4000): offset]
     line = doc.index.line_text(pos.line)[: pos.col]
+    ros2 = _ros2(doc)
     m = _SUBST_ARG.search(line)
     if m:
         return await arg_items(ls, doc)
@@ -128,18 +179,26 @@ async def launch_items(ls, doc, pos: Pos):
         return [_item(name, types.CompletionItemKind.Module, folder) for name, folder in sorted(pkgs.items())]
     m = _SUBST_CMD.search(line)
     if m:
+        if ros2:
+            from ...launch.ros2.schema import SUBSTITUTIONS
+            return [_item(c, types.CompletionItemKind.Function, "substitution") for c in SUBSTITUTIONS]
         return [_item(c, types.CompletionItemKind.Function, "substitution")
                 for c in ("arg", "find", "env", "optenv", "anon", "dirname", "eval")]
+    if doc.path.endswith((".yaml", ".yml")):
+        return _yaml_items(doc, pos, line)
+    tag_attrs, child_tags = LAUNCH_TAGS, CHILD_TAGS
+    if ros2:
+        from ...launch.ros2.schema import CHILD_TAGS as child_tags, TAG_ATTRS as tag_attrs
     m = _OPEN_TAG.search(line)
     if m:
         parent = _enclosing_tag(before[: len(before) - len(m.group(0))])
-        tags = CHILD_TAGS.get(parent, list(LAUNCH_TAGS))
+        tags = child_tags.get(parent, list(tag_attrs))
         return [_item(t, types.CompletionItemKind.Keyword, f"<{t}>", f"{i:02d}") for i, t in enumerate(tags)]
     m = _IN_TAG.search(before)
     if m and not re.search(r"=\s*\"[^\"]*$", before[m.start():]) and not re.search(r"=\s*'[^']*$", before[m.start():]):
         tag = m.group(1)
         present = set(re.findall(r"([\w\-]+)\s*=", m.group(2) or ""))
-        attrs = [a for a in LAUNCH_TAGS.get(tag, []) if a not in present]
+        attrs = [a for a in tag_attrs.get(tag, []) if a not in present]
         return [_item(a, types.CompletionItemKind.Property, f"attribute of <{tag}>", f"{i:02d}")
                 for i, a in enumerate(attrs)]
     return []
@@ -151,7 +210,7 @@ async def arg_items(ls, doc):
     analysis = ls.parsed_now(doc.path) or await ls.parsed(doc.path)
     if analysis is not None and hasattr(analysis, "elements"):
         for e in analysis.elements:
-            if e.path == doc.path and e.tag == "arg" and "name" in e.attrs:
+            if e.path == doc.path and e.tag in ("arg", "let") and "name" in e.attrs:
                 if e.parent is not None and e.parent.tag == "include":
                     continue
                 n = e.attrs["name"].value
