@@ -93,7 +93,7 @@ def test_the_clients_call_server_commands_that_exist():
 
 def test_launch_and_model_extensions_are_files_the_server_analyses():
     exts = [e for lang in PACKAGE["contributes"]["languages"] for e in lang["extensions"]]
-    assert set(exts) == {".tvl", ".launch", ".launch.xml", ".test"}
+    assert set(exts) == {".tvl", ".launch", ".launch.xml", "_launch.xml", ".test"}
     for e in exts:
         assert file_kind(f"/ws/src/pkg/launch/generic{e}") in ("tvl", "launch"), e
 

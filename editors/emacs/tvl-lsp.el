@@ -54,6 +54,7 @@
 (progn
   (add-to-list 'auto-mode-alist '("\\.tvl\\'" . tvl-mode))
   (add-to-list 'auto-mode-alist '("\\.launch\\(?:\\.xml\\)?\\'" . roslaunch-mode))
+  (add-to-list 'auto-mode-alist '("_launch\\.xml\\'" . roslaunch-mode))
   (add-to-list 'auto-mode-alist '("\\.test\\'" . roslaunch-mode)))
 
 (defun tvl-lsp-project-find (dir)

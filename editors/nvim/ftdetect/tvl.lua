@@ -15,5 +15,6 @@ vim.filetype.add({
   },
   pattern = {
     ['.*%.launch%.xml'] = 'roslaunch',
+    ['.*_launch%.xml'] = 'roslaunch',
   },
 })

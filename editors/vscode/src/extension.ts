@@ -231,7 +231,9 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
       { scheme: 'file', language: 'tvl' },
       { scheme: 'untitled', language: 'tvl' },
       { scheme: 'file', language: 'roslaunch' },
-      { scheme: 'file', language: 'xml', pattern: '**/*.{launch,launch.xml,test}' },
+      { scheme: 'file', language: 'xml', pattern: '**/*{.launch,.launch.xml,_launch.xml,.test}' },
+      // ROS 2 launch files in YAML (the yaml language keeps its highlighting)
+      { scheme: 'file', language: 'yaml', pattern: '**/*{.launch.yaml,.launch.yml,_launch.yaml,_launch.yml}' },
     ],
     synchronize: { fileEvents: watcher },
     initializationOptions: { [SECTION]: serverSettings() },
