@@ -91,6 +91,12 @@ class NodeRules:
         if g == FALSE:
             return
         params, files = self.node_params(a.params, sc, g, el, emap)
+        # <set_parameter> values come first on the command line (later ones overwrite them)
+        glob = {}
+        for c, item in self.list_items(sc, "gparams", g):
+            if isinstance(item, tuple):
+                glob[item[0]] = (c, item[1])
+        params = {**glob, **params} if glob else params
         remaps = self.list_items(sc, "remaps", g)
         own = []
         for r in a.remaps:
