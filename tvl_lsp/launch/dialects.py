@@ -55,7 +55,7 @@ def dialect_of(path: str, text: Optional[str] = None) -> Dialect:
 def analyse_any(text: str, path: str, workspace_root: Optional[str] = None, read_file=None, *,
                 features: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None,
                 packages: Optional[dict[str, str]] = None, choices=None,
-                dialect: Optional[Dialect] = None, partial: bool = False) -> LaunchAnalysis:
+                dialect: Optional[Dialect] = None, partial: bool = False, lenient: bool = False) -> LaunchAnalysis:
     """Analyse a launch file with the front end of its dialect (``choices``, ``partial``: see
     :func:`tvl_lsp.launch.ros2.analyse_launch2`; ROS 1 ignores them)."""
     d = dialect or detect_dialect(path, text)
@@ -63,7 +63,7 @@ def analyse_any(text: str, path: str, workspace_root: Optional[str] = None, read
         from .ros2 import analyse_launch2
         la = analyse_launch2(text, path, workspace_root=workspace_root, read_file=read_file, features=features,
                              env=env, packages=None if packages is None else _ros2_packages(packages),
-                             choices=choices, partial=partial)
+                             choices=choices, partial=partial, lenient=lenient)
     else:
         from .ros1.loader import analyse_launch
         la = analyse_launch(text, path, workspace_root=workspace_root, read_file=read_file, features=features,

@@ -157,7 +157,8 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
             features = free_top_args(text, path)
         try:
             la = analyse_any(text, path, workspace_root=root, read_file=read_file, features=features,
-                             choices=selectors, dialect=dialect, partial=partial and info is None)
+                             choices=selectors, dialect=dialect, partial=partial and info is None,
+                             lenient=info is None)
         except Exception as exc:
             out.append(_internal(path, f"launch analysis failed: {exc!r}"))
             continue

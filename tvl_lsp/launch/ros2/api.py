@@ -177,7 +177,7 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
                     features: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None,
                     packages: Optional[Mapping[str, str]] = None,
                     choices: Optional[Mapping[str, list[tuple[Formula, str]]]] = None,
-                    partial: bool = False) -> LaunchAnalysis:
+                    partial: bool = False, lenient: bool = False) -> LaunchAnalysis:
     """Analyse a ROS 2 launch file for all assignments of its feature args at once.
 
     ``features``: the args to treat as free booleans (the paired model's features); if None,
@@ -185,7 +185,9 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
     paired with alternatives of the model (others with <choice> get auxiliary variables).
     ``partial``: the file is included by another launch file (and launched by none on its own):
     launch configurations it reads without declaring them come from its includers, so a missing
-    one is unknown here rather than an error (the includer's analysis checks them)."""
+    one is unknown here rather than an error (the includer's analysis checks them).
+    ``lenient`` (a file checked without a model): a configuration that no file of the analysis
+    declares is a warning rather than an error (a file that includes this one may set it)."""
     path = os.path.abspath(path)
     env = os.environ if env is None else env
     if workspace_root is None and packages is None:
@@ -193,6 +195,7 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
     w = Walker(concrete=False, packages=_packages(workspace_root, packages), env=env, read_file=read_file,
                workspace_root=workspace_root, installed=installed_packages(env))
     w.root_path = path
+    w.lenient = lenient
     if path.endswith(".py"):
         return LaunchAnalysis(path, [], [], [], [], [], [], [], [], None)
     u = w.unit(path, text)

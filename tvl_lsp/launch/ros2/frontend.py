@@ -385,7 +385,7 @@ def _yaml_entity(tag: str, key_node, node, path: str, idx: LineIndex, text: str,
                 if name == "children":
                     kids = _yaml_children(v, path, idx, text, loader, e, depth)
                     e._ychildren = kids
-                    e._yorder.extend(x for x in kids if x is not None)
+                    e._yorder.extend(x for x in kids or [] if x is not None)
                 else:
                     lst = [_yaml_entity(name, k, c, path, idx, text, loader, e, depth + 1) for c in v.value]
                     e._ylists[name] = lst
@@ -400,7 +400,7 @@ def _yaml_entity(tag: str, key_node, node, path: str, idx: LineIndex, text: str,
     elif isinstance(node, yaml.SequenceNode):
         kids = _yaml_children(node, path, idx, text, loader, e, depth)
         e._ychildren = kids
-        e._yorder.extend(x for x in kids if x is not None)
+        e._yorder.extend(x for x in kids or [] if x is not None)
     return e
 
 

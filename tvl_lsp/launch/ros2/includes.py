@@ -101,7 +101,7 @@ class IncludeRules:
             iel = emap.get(id(ia.entity), el)
             iel.condition = disj([iel.condition, c])
             ncases = self.ev(ia.name, sc, c, iel)
-            vcases = self.ev(ia.value, sc, c, iel)
+            vcases = self.sure(self.ev(ia.value, sc, c, iel), c)
             for _, n in ncases:
                 before.setdefault(n, list(sc.configs.get(n, [])))
             self.set_config(sc, ncases, vcases, c)

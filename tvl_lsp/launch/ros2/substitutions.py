@@ -14,7 +14,7 @@ from ..model import Element
 from . import actions as A
 from . import pyexpr
 from . import subst as S
-from .values import (CONDITION_NOT_ANALYSABLE, Cases, ENV_NOT_SET, EVAL_ERROR, MAX_CASES, OPAQUE, PACKAGE_NOT_FOUND,
+from .values import (E, W, CONDITION_NOT_ANALYSABLE, Cases, ENV_NOT_SET, EVAL_ERROR, MAX_CASES, OPAQUE, PACKAGE_NOT_FOUND,
                      SUBST_FAILED, Scope, UNDEFINED_ARG, UNRESOLVED, equals, merge, opaque, present, shown, typed_bool)
 
 
@@ -62,8 +62,8 @@ class SubstEval:
             return self.ev_parts(args[i], v, sc, g, el)
 
         def fail(msg: str, g: Formula, code: str = SUBST_FAILED, friendly: Optional[str] = None,
-                 kind: str = "SubstitutionFailure"):
-            self.fact(code, friendly or msg, path, span, g, launch=(kind, msg))
+                 kind: str = "SubstitutionFailure", severity=E):
+            self.fact(code, friendly or msg, path, span, g, severity, launch=(kind, msg))
 
         if name == "var":
             out: Cases = []
@@ -89,6 +89,12 @@ class SubstEval:
                 if sc.opaque != FALSE:
                     out.append((conj([missing, sc.opaque]), OPAQUE))
                     missing = conj([missing, neg(sc.opaque)])
+                if self.lenient and n not in self.declared_names:
+                    # declared nowhere: the file may well expect it from a file that includes it
+                    fail(f"launch configuration '{n}' does not exist", missing, UNDEFINED_ARG,
+                         f"$(var {n}): no <arg> or <let> declares '{n}' (ros2 launch: launch configuration '{n}' "
+                         "does not exist), unless a file that includes this one sets it", severity=W)
+                    continue
                 fail(f"launch configuration '{n}' does not exist", missing, UNDEFINED_ARG,
                      f"$(var {n}): no <arg> or <let> named '{n}' is set here (ros2 launch: launch configuration "
                      f"'{n}' does not exist)")

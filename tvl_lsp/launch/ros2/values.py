@@ -390,6 +390,26 @@ class Unit:
 # ------------------------------------------------------------------ the walker
 
 
+def declared_in(acts: list) -> set[str]:
+    """The configuration names a file's actions declare (<arg>, <let>, <keep> with a plain name)."""
+    from . import subst as S
+    out: set[str] = set()
+    stack = list(acts)
+    while stack:
+        a = stack.pop()
+        if isinstance(a, A.ArgA):
+            out.add(a.name)
+        elif isinstance(a, A.LetA) and S.is_text(a.name.parts):
+            out.add(S.plain(a.name.parts))
+        elif isinstance(a, A.IncludeA):
+            out |= {S.plain(x.name.parts) for x in a.args if S.is_text(x.name.parts)}
+        if isinstance(a, (A.GroupA, A.ResetA)):
+            out |= {S.plain(k.name.parts) for k in (a.keeps or []) if S.is_text(k.name.parts)}
+        if isinstance(a, (A.GroupA, A.TimerA)):
+            stack.extend(a.actions)
+    return out
+
+
 def _yaml_value(s: str):
     if not s:
         return s

@@ -34,7 +34,7 @@ from .frontend import parse_launch_file
 from .includes import IncludeRules
 from .nodes import NodeRules
 from .substitutions import SubstEval
-from .values import (E, I, W, ARG_LEAK, BUDGET, CONDITION_NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
+from .values import (E, I, W, declared_in, ARG_LEAK, BUDGET, CONDITION_NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
                      INVALID_NAMESPACE, LaunchFact, MAX_CASES, MAX_VISITS, MAX_WALK_DEPTH, Node2Fact, OPAQUE, RList,
                      Scope, Stop, UNSET_ARG, Unit, _CLASS, _extension, _python_error, _yaml_value, cond_value,
                      make_absolute, merge, opaque, prefix_namespace, present, shown, validate_namespace)
@@ -77,6 +77,8 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.given: list[str] = []
         self.free: set[str] = set()
         self.timers: list = []
+        self.lenient = False               # undeclared configurations: warnings (no model paired)
+        self.declared_names: set[str] = set()
 
     def fact(self, code: str, message: str, path: str, span: Span, cond: Formula, severity: Severity = E,
              related=None, launch: tuple[str, str] = ("", "")):
@@ -142,6 +144,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
             errors.append(A.LoadError(kind, msg, span, path))
         elif doc.root is not None:
             acts, errors = A.parse_description(doc.root, path)
+            self.declared_names |= declared_in(acts)
         u = Unit(path, doc, acts, errors)
         self.units[path] = u
         return u
@@ -156,6 +159,13 @@ class Walker(SubstEval, NodeRules, IncludeRules):
             lines.append(f" - {py}")
         head = "Caught multiple exceptions" if len(lines) > 1 else "Caught exception"
         return f"{head} when trying to load file of format [{ext}]:\n" + "\n".join(lines)
+
+    @staticmethod
+    def sure(values: Cases, cond: Formula) -> Cases:
+        """A value whose evaluation failed somewhere (reported there) is unknown there: what
+        reads it is not reported again."""
+        failed = conj([cond, neg(present(values))])
+        return values + [(failed, OPAQUE)] if failed != FALSE else values
 
     def set_config(self, sc: Scope, names: Cases, values: Cases, g: Formula, el: Optional[Element] = None) -> None:
         for cn, n in names:
@@ -263,7 +273,8 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         if t == "arg":
             self.arg(a, el, sc, cond)
         elif t == "let":
-            self.set_config(sc, self.ev(a.name, sc, cond, el), self.ev(a.value, sc, cond, el), cond, el)
+            self.set_config(sc, self.ev(a.name, sc, cond, el), self.sure(self.ev(a.value, sc, cond, el), cond),
+                            cond, el)
         elif t == "group":
             self.group(a, el, sc, cond, emap)
         elif t == "include":
@@ -355,7 +366,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
                 # the command line sets it (the warning says so); its value is unknown here
                 self.set_config(sc, [(TRUE, name)], [(missing, OPAQUE)], missing)
             else:
-                d = self.ev(a.default, sc, missing, el)
+                d = self.sure(self.ev(a.default, sc, missing, el), missing)
                 self.set_config(sc, [(TRUE, name)], d, missing)
         if a.default is not None and not self.concrete and name in sc.leaks and have != FALSE:
             self.leaked_default(a, el, sc, conj([cond, have]), vals)
