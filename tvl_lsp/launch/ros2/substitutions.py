@@ -89,11 +89,11 @@ class SubstEval:
                 if sc.opaque != FALSE:
                     out.append((conj([missing, sc.opaque]), OPAQUE))
                     missing = conj([missing, neg(sc.opaque)])
-                if self.lenient and n not in self.declared_names:
-                    # declared nowhere: the file may well expect it from a file that includes it
+                if self.lenient and n not in self.declared_names.get(path, ()):
+                    # the file never declares it: it may well expect it from a file that includes it
                     fail(f"launch configuration '{n}' does not exist", missing, UNDEFINED_ARG,
-                         f"$(var {n}): no <arg> or <let> declares '{n}' (ros2 launch: launch configuration '{n}' "
-                         "does not exist), unless a file that includes this one sets it", severity=W)
+                         f"$(var {n}): {os.path.basename(path)} does not declare '{n}' (ros2 launch: launch "
+                         f"configuration '{n}' does not exist), unless a file that includes it sets it", severity=W)
                     continue
                 fail(f"launch configuration '{n}' does not exist", missing, UNDEFINED_ARG,
                      f"$(var {n}): no <arg> or <let> named '{n}' is set here (ros2 launch: launch configuration "

@@ -78,7 +78,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.free: set[str] = set()
         self.timers: list = []
         self.lenient = False               # undeclared configurations: warnings (no model paired)
-        self.declared_names: set[str] = set()
+        self.declared_names: dict[str, set[str]] = {}   # file -> the names it declares
 
     def fact(self, code: str, message: str, path: str, span: Span, cond: Formula, severity: Severity = E,
              related=None, launch: tuple[str, str] = ("", "")):
@@ -144,7 +144,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
             errors.append(A.LoadError(kind, msg, span, path))
         elif doc.root is not None:
             acts, errors = A.parse_description(doc.root, path)
-            self.declared_names |= declared_in(acts)
+            self.declared_names[path] = declared_in(acts)
         u = Unit(path, doc, acts, errors)
         self.units[path] = u
         return u
