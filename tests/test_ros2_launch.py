@@ -348,3 +348,13 @@ def test_bad_yaml_never_crashes(tmp_path, text):
     res = load_launch2(str(f), {}, workspace_root=str(tmp_path), env=ENV, text=text)
     assert res.error is not None and res.nodes == []
     assert any(d.severity == 1 for d in la.diagnostics), la.diagnostics
+
+
+@pytest.mark.corpus
+def test_the_ros1_corpus_is_read_as_ros1(corpus_dir):
+    """Every real ROS 1 launch file of the corpus (.launch and the .launch.xml of MoveIt
+    configurations in catkin packages) is read as ROS 1."""
+    files = sorted(corpus_dir.rglob("*.launch")) + sorted(corpus_dir.rglob("*.launch.xml"))
+    assert len(files) > 100
+    wrong = [str(f) for f in files if detect_dialect(str(f)).dialect != "ros1"]
+    assert wrong == []

@@ -1,0 +1,141 @@
+#!/usr/bin/env python3
+"""ROS 2 launch files of a workspace: how fast tvl-lsp analyses them, and (with the oracle) how
+often its answers equal the real ros2/launch's.
+
+    .venv/bin/python bench/bench_ros2.py --workspace WS                 # timing only
+    ROS2_ORACLE=.../ros2-launch-oracle ROS2_ORACLE_VENV=... \\
+        .venv/bin/python bench/bench_ros2.py --workspace WS --oracle    # + comparison
+
+For every ``*.launch.xml`` / ``*.launch.yaml`` / ``*_launch.xml`` under ``WS/src``: the symbolic
+analysis (all boolean args at once, as ``--check`` runs it) and the concrete load with the
+defaults.  With ``--oracle``, each file also runs through the oracle (``--stub-missing-packages``,
+under ``env -i``) with up to three argument sets -- the defaults (args without a default get
+``dummy``, or ``true`` for ``use_``/``enable``/``launch_`` names), every boolean default flipped,
+and half of them flipped -- and the nodes (full name, package, executable), remaps and error of
+``load_launch2`` are compared with the oracle's.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import random
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from tvl_lsp.launch.ros2 import actions as A  # noqa: E402
+from tvl_lsp.launch.ros2 import analyse_launch2, load_launch2  # noqa: E402
+from tvl_lsp.launch.ros2.frontend import parse_launch_file  # noqa: E402
+
+SUFFIXES = (".launch.xml", ".launch.yaml", ".launch.yml", "_launch.xml", "_launch.yaml")
+ENV = {"PATH": "/usr/bin:/bin", "HOME": "/tmp"}
+FLIP = {"true": "false", "false": "true", "True": "False", "False": "True"}
+
+
+def launch_files(ws: Path) -> list[Path]:
+    base = ws / "src" if (ws / "src").is_dir() else ws
+    out = []
+    for d, dn, fn in os.walk(base):
+        dn[:] = sorted(x for x in dn if not x.startswith(".") and x not in ("build", "install", "log"))
+        out += [Path(d) / f for f in sorted(fn) if f.endswith(SUFFIXES)]
+    return out
+
+
+def arg_sets(path: Path, rnd: random.Random) -> list[dict]:
+    try:
+        doc = parse_launch_file(path.read_text(errors="replace"), str(path))
+        acts, _ = A.parse_description(doc.root, str(path)) if doc.root is not None else ([], [])
+    except Exception:
+        acts = []
+    tops = [a for a in acts if isinstance(a, A.ArgA)]
+    base = {}
+    for a in tops:
+        if a.default is None and a.cond is None:
+            base[a.name] = a.choices[0] if a.choices else (
+                "true" if any(k in a.name for k in ("use_", "enable", "launch_", "with_", "is_")) else "dummy")
+    out = [dict(base)]
+    bools = [a for a in tops if a.default is not None and a.default.text in FLIP]
+    if bools:
+        out.append({**base, **{a.name: FLIP[a.default.text] for a in bools}})
+        half = {**base, **{a.name: FLIP[a.default.text] for a in bools if rnd.random() < 0.5}}
+        if half not in out:
+            out.append(half)
+    return out
+
+
+def run_oracle(ws: Path, tasks: list[dict]) -> list[dict]:
+    oracle = os.environ.get("ROS2_ORACLE", "ros2-launch-oracle")
+    env = dict(ENV, TMPDIR=tempfile.gettempdir())
+    if os.environ.get("ROS2_ORACLE_VENV"):
+        env["ROS2_ORACLE_VENV"] = os.environ["ROS2_ORACLE_VENV"]
+    with tempfile.NamedTemporaryFile("w", suffix=".jsonl", delete=False) as fh:
+        for t in tasks:
+            fh.write(json.dumps(t) + "\n")
+    try:
+        r = subprocess.run([oracle, "--workspace", str(ws), "--stub-missing-packages", "--batch", fh.name],
+                           env=env, capture_output=True, text=True)
+    finally:
+        os.unlink(fh.name)
+    if r.returncode != 0:
+        raise SystemExit(f"oracle failed: {r.stderr.strip()[:500]}")
+    return [json.loads(x) for x in r.stdout.splitlines() if x.strip()]
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--workspace", required=True, help="a ROS 2 workspace (packages under src/)")
+    ap.add_argument("--oracle", action="store_true", help="also compare with ros2-launch-oracle")
+    ap.add_argument("-v", "--verbose", action="store_true", help="print every disagreement")
+    ns = ap.parse_args(argv)
+    ws = Path(ns.workspace).resolve()
+    files = launch_files(ws)
+    if not files:
+        print(f"no ROS 2 launch files under {ws}", file=sys.stderr)
+        return 2
+    sym, conc = [], []
+    for f in files:
+        text = f.read_text(errors="replace")
+        t = time.perf_counter()
+        analyse_launch2(text, str(f), workspace_root=str(ws), env=ENV, lenient=True)
+        sym.append((time.perf_counter() - t, f))
+        t = time.perf_counter()
+        load_launch2(str(f), {}, workspace_root=str(ws), env=ENV, text=text)
+        conc.append((time.perf_counter() - t, f))
+    for label, xs in (("symbolic analysis", sym), ("concrete load", conc)):
+        ts = sorted(x for x, _ in xs)
+        print(f"{label}: {len(ts)} files, total {sum(ts):.1f} s, median {ts[len(ts) // 2] * 1000:.0f} ms, "
+              f"max {ts[-1]:.2f} s ({max(xs)[1].relative_to(ws)})")
+    if not ns.oracle:
+        return 0
+    rnd = random.Random(5)
+    tasks = [{"file": str(f), "args": a} for f in files for a in arg_sets(f, rnd)]
+    stats = {"runs": 0, "nodes": 0, "remaps": 0, "error": 0, "message": 0}
+    for d in run_oracle(ws, tasks):
+        r = d["result"]
+        res = load_launch2(d["file"], d["args"], workspace_root=str(ws), env=ENV)
+        want = [(n["name"], n["package"], n["executable"]) for n in r["nodes"]]
+        got = [(n["name"], n["package"], n["executable"]) for n in res.nodes]
+        rm_ok = [n["remaps"] for n in r["nodes"]] == [[list(x) for x in n["remaps"]] for n in res.nodes]
+        stats["runs"] += 1
+        stats["nodes"] += want == got
+        stats["remaps"] += want == got and rm_ok
+        stats["error"] += (r["error"] is None) == (res.error is None)
+        stats["message"] += r["error"] == res.error
+        if ns.verbose and (want != got or not rm_ok or (r["error"] is None) != (res.error is None)):
+            print("DIFFERS", os.path.relpath(d["file"], ws), d["args"], r["error"], res.error)
+    n = stats["runs"]
+    print(f"oracle: {n} runs; equal nodes {stats['nodes']}, remaps {stats['remaps']}, error or not "
+          f"{stats['error']}, error message {stats['message']} (the oracle's refusal of Python files reads "
+          "differently)")
+    return 0 if stats["nodes"] == stats["remaps"] == stats["error"] == n else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
