@@ -40,6 +40,12 @@ from .values import (E, I, W, declared_in, ARG_LEAK, BUDGET, CONDITION_NOT_ANALY
                      make_absolute, merge, opaque, prefix_namespace, present, shown, validate_namespace)
 
 
+# parsed files, by content: a file and its parse are immutable once made (the walks only read
+# them), so the files a workspace's launch files share are parsed once per process
+_PARSED: dict = {}
+MAX_PARSED = 4000
+
+
 class Walker(SubstEval, NodeRules, IncludeRules):
 
     def __init__(self, *, concrete: bool, packages: Mapping[str, str], env: Mapping[str, str],
@@ -136,16 +142,22 @@ class Walker(SubstEval, NodeRules, IncludeRules):
             text = self.read(path)
             if text is None:
                 return None
-        doc = parse_launch_file(text, path)
-        errors: list = []
-        acts: list = []
-        if doc.error is not None:
-            kind, msg, span = doc.error
-            errors.append(A.LoadError(kind, msg, span, path))
-        elif doc.root is not None:
-            acts, errors = A.parse_description(doc.root, path)
-            self.declared_names[path] = declared_in(acts)
-        u = Unit(path, doc, acts, errors)
+        key = (path, len(text), hash(text))
+        u = _PARSED.get(key)
+        if u is None:
+            doc = parse_launch_file(text, path)
+            errors: list = []
+            acts: list = []
+            if doc.error is not None:
+                kind, msg, span = doc.error
+                errors.append(A.LoadError(kind, msg, span, path))
+            elif doc.root is not None:
+                acts, errors = A.parse_description(doc.root, path)
+            u = Unit(path, doc, acts, errors)
+            if len(_PARSED) >= MAX_PARSED:
+                _PARSED.pop(next(iter(_PARSED)))
+            _PARSED[key] = u
+        self.declared_names[path] = declared_in(u.actions)
         self.units[path] = u
         return u
 
