@@ -212,3 +212,19 @@ def test_analysis_says_its_dialect(name, dialect):
     from tvl_lsp.launch import analyse_any
     p = ROBOT / name
     assert analyse_any(p.read_text(), str(p)).dialect == dialect
+
+
+def test_an_installed_file_maps_back_to_its_source(tmp_path):
+    """$(find-pkg-share p)/launch/r1.launch.xml where the package keeps it in launch/robots/
+    (its build installs it flat): the one file of that name in the package is followed."""
+    pkg = tmp_path / "ws" / "src" / "p"
+    (pkg / "launch" / "robots").mkdir(parents=True)
+    (pkg / "package.xml").write_text("<package format='3'><name>p</name><export><build_type>ament_cmake"
+                                     "</build_type></export></package>")
+    main_file = pkg / "launch" / "main.launch.xml"
+    main_file.write_text('<launch>\n  <include file="$(find-pkg-share p)/launch/r1.launch.xml"/>\n</launch>\n')
+    (pkg / "launch" / "robots" / "r1.launch.xml").write_text(
+        '<launch>\n  <node pkg="p" exec="x" name="r1node" namespace="$(var undeclared)"/>\n</launch>\n')
+    diags = check_document(str(main_file))
+    assert [d.code for d in diags] == ["undefined-arg"], diags
+    assert "in the included file r1.launch.xml" in diags[0].message

@@ -45,6 +45,11 @@ class IncludeRules:
                 el.unresolved = True
                 continue
             u = self.unit(path)
+            if u is None and not self.concrete:
+                src = self.installed_from(path)
+                if src is not None:
+                    path = inc.file = src
+                    u = self.unit(path)
             if u is None and path.endswith(".py") and self.concrete:
                 u = Unit(path, None, [], [], python=True)
             if u is None and not self.concrete and not self.in_workspace(path):
@@ -136,6 +141,26 @@ class IncludeRules:
                 iel = emap.get(id(ia.entity), el)
                 return iel.path, (ia.name.span() or iel.tag_span)
         return el.path, el.tag_span or el.span
+
+    def installed_from(self, path: str) -> Optional[str]:
+        """``$(find-pkg-share pkg)/launch/x.launch.xml`` is the source folder's file of that path;
+        when the package's build installs it elsewhere (e.g. from ``launch/robots/``), the one
+        file of the package with that name."""
+        p = os.path.realpath(path)
+        for folder in self.packages.values():
+            root = os.path.realpath(folder).rstrip("/") + "/"
+            if not p.startswith(root):
+                continue
+            name = os.path.basename(p)
+            found = []
+            for d, dn, fn in os.walk(root):
+                dn[:] = [x for x in dn if not x.startswith(".") and x not in ("build", "install", "log", "test")]
+                if name in fn:
+                    found.append(os.path.join(d, name))
+                if len(found) > 1:
+                    return None
+            return found[0] if found else None
+        return None
 
     def in_workspace(self, path: str) -> bool:
         """Is ``path`` inside a package of the workspace (where a missing file is a mistake, not
