@@ -170,16 +170,16 @@ class Session:
 
     def _analyse_launch(self, path: str):
         from ..project.check import free_top_args
-        from ..launch import analyse_launch
+        from ..launch import analyse_any
         text = self.read_file(path)
         if text is None:
             return None
         enc = self.analysis.encoding
         features = [enc.name_of(f) for f in enc.features]
-        self._free = [n for n in free_top_args(text, path) if enc.feature_by_name(n) is None]
+        self._free = [n for n in free_top_args(text, path, paired=True) if enc.feature_by_name(n) is None]
         try:
-            return analyse_launch(text, path, workspace_root=self.roots[0], read_file=self.read_file,
-                                  features=features + self._free)
+            return analyse_any(text, path, workspace_root=self.roots[0], read_file=self.read_file,
+                               features=features + self._free)
         except Exception:
             return None
 
@@ -439,8 +439,10 @@ class Session:
         package_dir = self.workspace.packages.get(package) if package else None
         try:
             out_dir = resolve_folder(folder, self.launch, self.roots)
+            from ..project.generate import ros2_choices
             files = plan_configurations(products, features, self.launch, out_dir, self.roots, package, package_dir,
-                                        omit=[self.model.root.name])
+                                        omit=[self.model.root.name], dialect=getattr(la, "dialect", "ros1"),
+                                        choices=ros2_choices(la, self.model))
         except GenerateError as e:
             raise SessionError(str(e))
         return files, out_dir
