@@ -42,6 +42,11 @@ def test_ros2_twin_gets_the_findings_of_its_ros1_twin():
                                  "constant-condition", "undefined-arg"}
     # nothing else on the ROS 2 side (no spurious "required arg" or dialect notes)
     assert {d.code for d in ros2} <= TWIN_CODES
+    # two undeclared args in one value: one problem each, the later one says where ros2 launch stops
+    pair = [d for d in ros2 if d.code == "undefined-arg" and d.span.start.line == 20]
+    assert len(pair) == 2 and "cam_b" in pair[1].message + pair[0].message
+    later = max(pair, key=lambda d: d.span.start.col)
+    assert "$(var cam_b)" in later.message and "ros2 launch stops earlier" in later.related[0].message
 
 
 def test_check_of_the_ros2_generic_file_has_exact_ranges():

@@ -372,13 +372,18 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
                 # itself stops at this first one, which the related information says)
                 for other, other_span in also_undeclared.get(fact.span, []) if fact.path == launch.path else []:
                     sug2 = _closest(other, [n for n in known if n != other])
+                    if getattr(launch, "dialect", "ros1") == "ros2":
+                        first_msg = (f"$(var {other}): no <arg> or <let> named '{other}' is set here "
+                                     f"(ros2 launch: launch configuration '{other}' does not exist)")
+                        stops = f"ros2 launch stops earlier in this value, at `$(var {name})`"
+                    else:
+                        first_msg = (f"{os.path.basename(launch.path)} requires the '{other}' arg to be set: "
+                                     f"'{other}' is not declared in this scope")
+                        stops = f"roslaunch stops earlier in this value, at `$(arg {name})`"
                     out.append(Diagnostic(
                         fact.code, fact.severity, fact.path, other_span,
-                        f"{os.path.basename(launch.path)} requires the '{other}' arg to be set: "
-                        f"'{other}' is not declared in this scope"
-                        + (f"; did you mean `{sug2}`?" if sug2 else "") + _when(fact.condition, w),
-                        related=[Related(fact.path, fact.span,
-                                         f"roslaunch stops earlier in this value, at `$(arg {name})`")],
+                        first_msg + (f"; did you mean `{sug2}`?" if sug2 else "") + _when(fact.condition, w),
+                        related=[Related(fact.path, fact.span, stops)],
                         witness=w, data={"condition": str(fact.condition), "arg": other, "stops_at": name,
                                          **({"suggestion": sug2} if sug2 else {})}))
         path, span = fact.path, fact.span
