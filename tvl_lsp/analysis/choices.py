@@ -49,6 +49,26 @@ class ChoicePairing:
     by_value: dict = field(default_factory=dict)       # value -> feature name (group kind)
 
 
+def value_literal(encoding, name: str) -> Optional[int]:
+    """The literal of ``ATTR=VALUE`` (an attribute's long or unique short name, one value of
+    its finite domain), when the attribute is encoded (a constraint reads it); else None."""
+    if "=" not in name:
+        return None
+    lhs, _, value = name.partition("=")
+    cands = [a for f in encoding.features for a in f.attributes if a.long_name == lhs]
+    if not cands:
+        cands = [a for f in encoding.features for a in f.attributes if a.name == lhs]
+    if len(cands) != 1:
+        return None
+    term = encoding._attr_terms.get(id(cands[0]))
+    if not term or term[0] != "map":
+        return None
+    for k, lit in term[1].items():
+        if str(k) == value:
+            return lit
+    return None
+
+
 def _alternatives(f) -> Optional[list]:
     g = getattr(f, "group", None)
     if g is None:
@@ -88,7 +108,7 @@ def pair_choices(choices: dict[str, list[str]], encoding) -> dict[str, ChoicePai
                 a = attrs[0]
                 evs = _enum_values(a)
                 p.kind, p.target = "enum", a
-                lits = {v: encoding.value_literal(f"{a.long_name}={v}") for v in values if v in evs}
+                lits = {v: value_literal(encoding, f"{a.long_name}={v}") for v in values if v in evs}
                 if lits and all(x is not None for x in lits.values()):
                     p.selectors = [(fm.Var(f"{a.long_name}={v}"), v) for v in values if v in evs]
                 p.extra = [v for v in values if v not in evs]

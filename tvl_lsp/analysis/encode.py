@@ -279,25 +279,6 @@ class Encoding:
             return fs[0]
         return self._by_long.get(name)
 
-    def value_literal(self, name: str) -> Optional[int]:
-        """The literal of ``ATTR=VALUE`` (an attribute's long or unique short name, one value of
-        its finite domain), when the attribute is encoded (a constraint reads it); else None."""
-        if "=" not in name:
-            return None
-        lhs, _, value = name.partition("=")
-        cands = [a for f in self.features for a in f.attributes if a.long_name == lhs]
-        if not cands:
-            cands = [a for f in self.features for a in f.attributes if a.name == lhs]
-        if len(cands) != 1:
-            return None
-        term = self._attr_terms.get(id(cands[0]))
-        if not term or term[0] != "map":
-            return None
-        for k, lit in term[1].items():
-            if str(k) == value:
-                return lit
-        return None
-
     def name_of(self, f: M.Feature) -> str:
         """The name a user (and the formulas) use: the short name when unique, else the long."""
         return f.name if len(self._by_short.get(f.name, ())) == 1 else f.long_name

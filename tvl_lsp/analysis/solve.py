@@ -29,6 +29,7 @@ from pysat.solvers import Solver
 
 from ..base import formula as fm
 from ..tvl import model as M
+from .choices import value_literal
 from .encode import Element, Encoding, _Builder
 
 SOLVER = "glucose4"
@@ -414,7 +415,7 @@ class PairLogic:
                 v = self.enc.var_of_feature[f]
                 self.var_of[name] = v
                 return v
-            lit = self.enc.value_literal(name)  # ATTR=VALUE of an encoded attribute
+            lit = value_literal(self.enc, name)  # ATTR=VALUE of an encoded attribute
             if lit is not None:
                 self.var_of[name] = lit
                 return lit
