@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT))
 DEFAULT_MODELS_DIR = ROOT.parent / "shared" / "models"
 SHARED = DEFAULT_MODELS_DIR  # set from --models-dir in main()
 
-from tvl_lsp.analysis.count import CACHE, count_cnf  # noqa: E402
+from tvl_lsp.analysis.counting.projected import CACHE, count_cnf  # noqa: E402
 from tvl_lsp.analysis.dimacs import dimacs_to_model, parse_dimacs  # noqa: E402
 from tvl_lsp.analysis.engine import ModelAnalysis  # noqa: E402
 from tvl_lsp.base.text import ZERO_SPAN  # noqa: E402

@@ -76,13 +76,15 @@ def main() -> int:
         print(f"CLI {' '.join(fmt):24} wall {_fmt(walls)}")
         print(f"{'':28} CPU  {_fmt(cpus)}")
 
-    from tvl_lsp.analysis.count import CACHE
+    from tvl_lsp.analysis.counting.projected import CACHE
+    from tvl_lsp.analysis.counting.service import MEMORY
     from tvl_lsp.graph import to_dot, to_json
     from tvl_lsp.project.graph import load_graph
     steps: dict[str, list[float]] = {}
     sizes = None
     for _ in range(ns.runs):
         CACHE.data.clear()
+        MEMORY.clear()
         t0 = time.perf_counter()
         ctx = load_graph(launch)
         t1 = time.perf_counter()

@@ -42,6 +42,16 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parents[1]
+
+# the counting service keeps compiled models on disk: the suite and the servers it starts use a
+# folder of their own, not the user's cache (a test that needs an empty one sets its own)
+if "TVL_LSP_CACHE_DIR" not in os.environ:
+    import atexit
+    import shutil
+    import tempfile
+    _CACHE = tempfile.mkdtemp(prefix="tvl-lsp-test-cache-")
+    os.environ["TVL_LSP_CACHE_DIR"] = _CACHE
+    atexit.register(shutil.rmtree, _CACHE, True)
 _SHARED_PREFIXES = tuple(sorted({os.path.join(str(p), "") for p in
                                  (REPO.parent / "shared", (REPO.parent / "shared").resolve())}))
 _guard_item: "pytest.Item | None" = None

@@ -14,6 +14,8 @@ from tvl_lsp.configurator import Session, SessionError
 from tvl_lsp.configurator.api import handle, write_files
 from tvl_lsp.configurator.problems import parse_condition
 
+from model_gen import generated_model
+
 REPO = Path(__file__).resolve().parent.parent
 TURTLE = REPO / "examples" / "ws" / "src" / "turtlerand" / "launch"
 BOT_WS = REPO / "tests" / "data" / "configurator" / "ws"
@@ -211,3 +213,116 @@ def test_api_model_state_counts(turtle):
     assert out["remaining"] == "2" and out["features"] == {"Teleop": "1"}
     out, d = handle(turtle, "reset", {}, d)
     assert d == {} and out["state"]["decisions"] == {}
+
+
+# ------------------------------------------------------------------ counts from the counting service
+
+@pytest.fixture()
+def d4_calls(tmp_path, monkeypatch):
+    """Every compilation d4 does (in this process or in its child process), with an empty disk
+    and memory cache; pyganak must not be asked."""
+    from tvl_lsp.analysis.counting import d4, projected
+    from tvl_lsp.analysis.counting import service as S
+    monkeypatch.setenv("TVL_LSP_CACHE_DIR", str(tmp_path / "cache"))
+    S.MEMORY.clear()
+    S.forget_failures()
+    calls: list[str] = []
+    real_in, real_child = d4.compile_inprocess, d4.compile_cnf
+
+    def inproc(*a, **k):
+        calls.append("in-process")
+        return real_in(*a, **k)
+
+    def child(*a, **k):
+        calls.append("child process")
+        return real_child(*a, **k)
+
+    def no_pyganak(*a, **k):
+        raise AssertionError("the configurator counted with pyganak")
+
+    monkeypatch.setattr(d4, "compile_inprocess", inproc)
+    monkeypatch.setattr(d4, "compile_cnf", child)
+    monkeypatch.setattr(projected, "count_cnf", no_pyganak)
+    yield calls
+    S.MEMORY.clear()
+    S.forget_failures()
+
+
+def test_counts_come_from_one_compilation_per_model_content(tmp_path, d4_calls):
+    ws = tmp_path / "ws"
+    shutil.copytree(BOT_WS, ws)
+    s = Session.open(str(ws / "src" / "bot" / "launch" / "robot.tvl"))
+    allp = list(s.analysis.enumerate(limit=None))
+    decisions: dict = {}
+    for feature, value in [("Sensors", True), ("Lidar", False), ("Tracks", True), ("Camera", True)]:
+        decisions, refusal = s.decide(decisions, feature, value)
+        assert refusal is None
+        c = s.counts(decisions)
+        sel = [p for p in allp if all(p[k] == v for k, v in decisions.items())]
+        assert c["engine"] == "d4" and not c["pending"] and c["complete"]
+        assert c["remaining"] == str(len(sel)) and c["total"] == str(len(allp))
+        assert c["features"] == {n: str(sum(1 for p in sel if p[n])) for n in s.names}
+    assert d4_calls == ["in-process"]  # one compilation for every decision
+    # a second session on the same text (another view, a host restart in the same process)
+    s2 = Session.open(str(ws / "src" / "bot" / "launch" / "robot.tvl"))
+    assert s2.counts({"Wheels": True})["remaining"] == str(sum(1 for p in allp if p["Wheels"]))
+    assert d4_calls == ["in-process"]
+    # a new text is a new model: compiled once more
+    model = ws / "src" / "bot" / "launch" / "robot.tvl"
+    model.write_text(model.read_text().replace("Sonar -> Tracks;", "Sonar -> Tracks;\n  Camera -> Lidar;"))
+    s3 = Session.open(str(model))
+    assert s3.counts({})["remaining"] == str(sum(1 for p in allp if not p["Camera"] or p["Lidar"]))
+    assert d4_calls == ["in-process", "in-process"]
+
+
+def test_counts_are_pending_while_the_model_compiles(tmp_path, d4_calls):
+    ws = tmp_path / "ws" / "src" / "big" / "launch"
+    ws.mkdir(parents=True)
+    (ws / "big.tvl").write_text(generated_model(400))
+    s = Session.open(str(ws / "big.tvl"), roots=[str(tmp_path / "ws")])
+    assert s.analysis.encoding.nvars > 150  # compiled in d4's child process
+    first, _ = handle(s, "counts", {"wait": 0}, {})
+    assert first["pending"] and first["status"] == "compiling" and first["remaining"] is None
+    assert first["features"] == {}
+    import time
+    deadline = time.monotonic() + 120
+    c = first
+    while c["pending"] and time.monotonic() < deadline:
+        time.sleep(0.05)
+        c, _ = handle(s, "counts", {"wait": 0}, {})
+    assert not c["pending"] and c["engine"] == "d4" and c["complete"]
+    assert d4_calls == ["child process"]
+    total = int(c["remaining"])
+    assert total == s.analysis.count()  # the same service: no second compilation
+    # a decision is one pass over the circuit: no compilation, every feature counted
+    f = next(n for n in s.names if n != "Root" and c["features"][n] not in ("0", c["remaining"]))
+    d, refusal = s.decide({}, f, True)
+    assert refusal is None
+    c2, _ = handle(s, "counts", {"wait": 0}, d)
+    assert not c2["pending"] and c2["remaining"] == c["features"][f] and len(c2["features"]) == len(s.names)
+    assert c2["features"][f] == c2["remaining"]
+    assert d4_calls == ["child process"]
+
+
+def test_pairwise_sample_comes_from_the_compiled_circuit(tmp_path, d4_calls, monkeypatch):
+    from tvl_lsp.analysis.counting import sampling
+    class NoSat(sampling.SatOracle):
+        def __init__(self, *a, **k):
+            raise AssertionError("the pairwise sample fell back on the SAT solver")
+
+    monkeypatch.setattr(sampling, "SatOracle", NoSat)
+    ws = tmp_path / "ws"
+    shutil.copytree(BOT_WS, ws)
+    s = Session.open(str(ws / "src" / "bot" / "launch" / "robot.launch"))
+    d = {"Sensors": True}
+    prods = s.products(d, "sample")
+    allp = [p for p in s.analysis.enumerate(limit=None) if p["Sensors"]]
+    keys = {tuple(sorted(p.items())) for p in allp}
+    assert prods and all(tuple(sorted(p.items())) in keys for p in prods)
+    for a, b in itertools.combinations(s.names, 2):
+        for va, vb in itertools.product([True, False], repeat=2):
+            if any(p[a] == va and p[b] == vb for p in allp):
+                assert any(p[a] == va and p[b] == vb for p in prods), (a, va, b, vb)
+    assert d4_calls == ["in-process"]
+    with pytest.raises(SessionError, match="more than the limit"):
+        s.products(d, "sample", limit=1)

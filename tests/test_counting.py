@@ -443,18 +443,6 @@ def test_generate_sample_writes_a_pairwise_cover(tmp_path):
     assert set().union(*[_pairs(p, names) for p in prods]) <= set().union(*[_pairs(c, names) for c in confs])
 
 
-def test_one_pass_counter_for_the_configurator():
-    from tvl_lsp.analysis.counting.decisions import OnePassCounter
-    a = load("cards.tvl")
-    names = [a.name(f) for f in a.encoding.features]
-    dec = {"Arm": True, "Lidar": False}
-    sel = [p for p in products(a) if p["Arm"] and not p["Lidar"]]
-    c = OnePassCounter()
-    assert c.remaining(a, dec) == len(sel)
-    per = c.per_feature(a, dec, {"Arm": True, "Lidar": False}, len(sel), names)
-    assert per == {n: sum(1 for p in sel if p[n]) for n in names}
-
-
 def test_cnf_without_variables(tmp_path):
     """d4 dies of a floating point exception on it: the service never hands it one."""
     assert compile_inprocess(0, []) == ("t 1 0\n", 1)

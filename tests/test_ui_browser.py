@@ -237,6 +237,82 @@ def test_problems_follow_the_decisions(page, tmp_path):
         proc.wait(timeout=20)
 
 
+COUNT_STATES = """
+(() => {
+  window.__countStates = [];
+  new MutationObserver(() => {
+    const s = document.body && document.body.dataset.counts;
+    const last = window.__countStates[window.__countStates.length - 1];
+    if (s && s !== last) {
+      window.__countStates.push(s);
+      const rem = document.getElementById('remaining');
+      window.__countShown = window.__countShown || [];
+      window.__countShown.push([s, rem ? rem.dataset.remaining : null,
+        [...document.querySelectorAll('g.feature text.count')].map(t => t.textContent).slice(0, 5)]);
+    }
+  }).observe(document, {attributes: true, subtree: true, attributeFilter: ['data-counts']});
+})();
+"""
+
+
+def test_counts_are_pending_until_the_model_is_compiled(page, tmp_path):
+    """A model is compiled once, in the background (d4 in its own process): until it is ready the
+    page shows the counts as pending (the diagram stays usable), then the exact counts appear."""
+    from model_gen import generated_model
+    ws = tmp_path / "ws"
+    shutil.copytree(REPO / "examples" / "ws", ws)
+    big = ws / "src" / "big" / "launch"
+    big.mkdir(parents=True)
+    (big / "big.tvl").write_text(generated_model(400))
+    env = dict(os.environ, TVL_LSP_CACHE_DIR=str(tmp_path / "cache"))
+    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(ws), "--no-browser"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        url = proc.stdout.readline().strip()
+        page.add_init_script(COUNT_STATES)
+        open_ui(page, url)
+        # another model of the workspace: nothing compiled it yet
+        page.locator("#model-picker").select_option(str(big / "big.tvl"))
+        import time
+        deadline = time.monotonic() + 120
+        while page.evaluate("window.__countStates.filter(s => s === 'ready').length") < 2:
+            assert time.monotonic() < deadline, page.evaluate("window.__countStates")
+            page.wait_for_timeout(50)
+        states = page.evaluate("window.__countStates")
+        # the second model's states, after the first model's ready
+        second = states[states.index("ready") + 1:]
+        assert second == ["pending", "compiling", "ready"], states
+        shown = page.evaluate("window.__countShown")
+        compiling = [x for x in shown if x[0] == "compiling"]
+        assert compiling and all(x[1] == "" for x in compiling)         # no count while compiling
+        assert all(t in ("…", "") for x in compiling for t in x[2])      # features: pending marks
+        from tvl_lsp.analysis.engine import ModelAnalysis
+        from tvl_lsp.tvl import parse_model
+        n = ModelAnalysis(parse_model((big / "big.tvl").read_text(), "big.tvl").model).count()
+        assert remaining(page) == str(n)
+        assert page.locator("#count-status").get_attribute("title").startswith("counted by d4")
+        counted = page.locator("g.feature text.count").all_text_contents()
+        assert counted and all(t.startswith("in ") for t in counted), counted
+        # a click after compilation: counts come back at once, never pending again
+        # an open feature whose + button a person can see (not under the other panel)
+        fid = page.evaluate("""() => [...document.querySelectorAll('g.feature[data-status=open]')]
+            .filter(g => { const r = g.querySelector('.btn-include').getBoundingClientRect();
+                           const hit = document.elementFromPoint(r.x + r.width / 2, r.y + r.height / 2);
+                           return hit && g.contains(hit); })
+            .map(g => g.dataset.feature).filter(f => f !== 'Root')[0]""")
+        assert fid, "no open feature visible in the diagram"
+
+        before = len(page.evaluate("window.__countStates"))
+        click(page, fid, "include")
+        page.wait_for_selector(f"#remaining:not([data-remaining='{n}'])", timeout=30000)
+        page.wait_for_selector("body[data-counts=ready]", timeout=30000)
+        assert "compiling" not in page.evaluate("window.__countStates")[before:]
+        page.goto("about:blank")
+    finally:
+        proc.terminate()
+        proc.wait(timeout=20)
+
+
 # What the VS Code extension does for its webview (editors/vscode/src/configurator.ts), emulated
 # in the page: requests posted by the UI are answered through the HTTP API here (in VS Code, by
 # the language server's tvl-lsp.configurator command, tested in test_server_configurator.py).

@@ -290,17 +290,17 @@ class ModelAnalysis:
 
     def feature_counts_result(self, include: Iterable[str] = (), exclude: Iterable[str] = (),
                               timeout: Optional[float] = None, cancel: CancelLike = None,
-                              progress=None) -> FeatureCounts:
+                              progress=None, order: Optional[Iterable[int]] = None) -> FeatureCounts:
         """Every feature's number of products (within the decisions): one pass over the
         compiled d-DNNF; ``counts[v]`` for the feature numbered ``v`` (None: not counted in
-        time, pyganak only)."""
+        time, pyganak only, which counts the features numbered in ``order`` first)."""
         svc = self.counter
 
         def backbone() -> dict[int, bool]:
             with self._lock:
                 return dict(self.analyzer.backbone())
         return svc.feature_counts(self._lits(include, exclude), timeout=timeout, cancel=cancel,
-                                  progress=progress, backbone=backbone)
+                                  progress=progress, backbone=backbone, order=order)
 
     def feature_counts(self, timeout: Optional[float] = None, cancel: CancelLike = None,
                        include: Iterable[str] = (), exclude: Iterable[str] = ()) -> dict[str, int]:

@@ -20,7 +20,10 @@ decide     ``feature``, ``value`` (true:      ``{ok, state}`` or ``{ok: false, r
            reset that feature)                message}, state}`` (decisions unchanged)
 reset      -                                  ``{ok, state}`` with no decision
 counts     ``features`` (optional order),     ``{total, remaining, features: {name: n},
-           ``timeout`` (s)                    complete}`` (counts are decimal strings)
+           ``timeout`` (s), ``wait`` (s,      complete, engine, pending, status, message}``
+           default 1: how long to wait for    (counts are decimal strings); ``pending: true``
+           the model's compilation)           while the model compiles in the background:
+                                              ask again
 generate   ``mode``: current|completions|     ``{files: [{path, relative, text}], folder}``
            sample|all, ``limit``, ``folder``  -- planned only: the host writes them
 excerpt    ``path``, ``line`` (0-based)       ``{path, relative, start, line, lines}``
@@ -83,7 +86,10 @@ def handle(session: Session, op: str, params: Optional[Mapping[str, Any]],
         timeout = params.get("timeout")
         timeout = float(timeout) if isinstance(timeout, (int, float)) and not isinstance(timeout, bool) else 10.0
         timeout = max(0.1, min(timeout, 120.0))
-        return session.counts(decisions, feats, timeout, cancel), decisions
+        wait = params.get("wait")
+        wait = float(wait) if isinstance(wait, (int, float)) and not isinstance(wait, bool) else 1.0
+        wait = max(0.0, min(wait, 10.0))
+        return session.counts(decisions, feats, timeout, cancel, wait=wait), decisions
     if op == "generate":
         mode = params.get("mode") or "current"
         folder = params.get("folder") if isinstance(params.get("folder"), str) and params.get("folder") else generate_folder

@@ -25,11 +25,14 @@ from typing import Callable, Iterable, Mapping, Optional
 from ..base import formula as fm
 from ..base.diagnostics import Severity
 from ..project.workspace import default_read_file, find_workspace_root, is_launch, is_model, load_workspace, norm
-from . import counting, graph as graphmod, problems as problemsmod, sampling
+from ..analysis.counting.errors import CountCancelled, CountTimeout
+from . import graph as graphmod, problems as problemsmod
 
 ReadFile = Callable[[str], Optional[str]]
 
 MODES = ("current", "completions", "sample", "all")
+COMPILE_BUDGET = 300.0  # seconds d4 may take to compile a model in the background
+SAMPLE_BUDGET = 60.0    # seconds for a pairwise sample
 
 
 class SessionError(ValueError):
@@ -110,6 +113,7 @@ class Session:
         self._problem_states: OrderedDict = OrderedDict()
         self._graph_states: OrderedDict = OrderedDict()
         self._total: Optional[int] = None
+        self.compile_budget = COMPILE_BUDGET
 
     # ------------------------------------------------------------------ opening
     @classmethod
@@ -368,37 +372,58 @@ class Session:
             return self._remember_state(decisions, p)
 
     # ------------------------------------------------------------------ counts
-    def total(self, timeout: Optional[float] = None) -> Optional[int]:
-        if self._total is None:
-            self._total = counting.COUNTER.remaining(self.analysis, {}, timeout)
-        return self._total
+    def compile_status(self, start: bool = True):
+        """Where the model's compilation stands (:class:`~tvl_lsp.analysis.counting.CompileStatus`);
+        with ``start``, start it in the background (d4 in a child process, at most
+        :attr:`compile_budget` seconds) if it is not running yet."""
+        svc = self.analysis.counter
+        return svc.start(self.compile_budget, owner=self.model_path) if start else svc.status()
 
     def counts(self, decisions: Mapping[str, bool], features: Optional[Iterable[str]] = None,
-               timeout: Optional[float] = 10.0, cancel=None) -> dict:
-        """Remaining products and, for ``features`` (default: all, in model order), how many
-        of them select each feature; what is not counted within ``timeout`` is left out
-        (``complete: false``).  Counts are decimal strings (they exceed 2**53)."""
+               timeout: Optional[float] = 10.0, cancel=None, wait: float = 1.0) -> dict:
+        """Remaining products and, for ``features`` (default: all, in model order), how many of
+        them select each feature -- from the counting service: one pass over the model's
+        compiled d-DNNF, whatever the number of features.  The compilation runs in the
+        background (started by the first call): when it is not ready within ``wait`` seconds
+        the answer comes at once with ``pending: true`` (no counts) and the host asks again.
+        Models d4 cannot count (auxiliary variables the features do not determine, d4 failed or
+        out of its budget) are counted by pyganak within ``timeout``; what is not counted in
+        time is left out (``complete: false``).  Counts are decimal strings (they exceed 2**53)."""
         decisions = self.check_decisions(decisions)
-        st = self.state(decisions)
-        fixed = dict(decisions)
-        fixed.update(st["implied"])
-        import time
-        t_end = None if timeout is None else time.monotonic() + timeout
+        wanted = list(dict.fromkeys(self.feature(f) for f in features)) if features is not None else list(self.names)
+        st = self.compile_status()
+        if st.state == "compiling" and wait > 0:
+            st = self.analysis.counter.wait(wait)
+        if st.state in ("compiling", "idle"):
+            return {"decisions": dict(decisions), "total": None if self._total is None else str(self._total),
+                    "remaining": None, "features": {}, "complete": False, "pending": True,
+                    "status": "compiling", "message": st.message, "seconds": round(st.seconds, 1),
+                    "engine": None}
+        inc = [k for k, v in decisions.items() if v]
+        exc = [k for k, v in decisions.items() if not v]
+        enc = self.analysis.encoding
+        order = [enc.var(f) for f in wanted]
         with self._count_lock:
-            total = self.total(timeout)
-            left = None if t_end is None else max(0.05, t_end - time.monotonic())
-            remaining = counting.COUNTER.remaining(self.analysis, decisions, left, cancel)
-            wanted = list(dict.fromkeys(self.feature(f) for f in features)) if features is not None else list(self.names)
-            per: dict[str, int] = {}
-            if remaining is not None:
-                left = None if t_end is None else max(0.05, t_end - time.monotonic())
-                per = counting.COUNTER.per_feature(self.analysis, decisions, fixed, remaining, wanted, left, cancel)
+            try:
+                r = self.analysis.feature_counts_result(inc, exc, timeout=timeout, cancel=cancel, order=order)
+            except (CountTimeout, CountCancelled) as e:
+                return {"decisions": dict(decisions), "total": None if self._total is None else str(self._total),
+                        "remaining": None, "features": {}, "complete": False, "pending": False,
+                        "status": st.state, "message": str(e) or "no answer in time", "engine": None}
+            if not decisions:
+                self._total = r.total
+            elif self._total is None:
+                try:
+                    self._total = self.analysis.count_result(timeout=timeout, cancel=cancel).value
+                except (CountTimeout, CountCancelled):
+                    pass
+        per = {f: r.counts[v] for f, v in zip(wanted, order) if r.counts[v] is not None}
         return {"decisions": dict(decisions),
-                "total": None if total is None else str(total),
-                "remaining": None if remaining is None else str(remaining),
+                "total": None if self._total is None else str(self._total),
+                "remaining": str(r.total),
                 "features": {k: str(v) for k, v in per.items()},
-                "complete": remaining is not None and len(per) == len(wanted),
-                "counter": counting.COUNTER.name}
+                "complete": r.complete and len(per) == len(wanted),
+                "pending": False, "status": st.state, "message": r.note, "engine": r.engine}
 
     # ------------------------------------------------------------------ generation
     def products(self, decisions: Mapping[str, bool], mode: str, limit: int = 100) -> list[dict[str, bool]]:
@@ -415,13 +440,36 @@ class Session:
             product.update(decisions)
             return [product]
         if mode == "sample":
-            st = self.state(decisions)
-            with self._lock:
-                return sampling.SAMPLER(self.analysis, decisions, st["open"], limit)
+            products = self.pairwise(decisions)
+            if len(products) > limit:
+                raise SessionError(f"the pairwise sample has {len(products)} configurations, more than the limit "
+                                   f"of {limit} files per Generate: decide more features first, or raise the "
+                                   "limit (tvl-lsp ui --limit, the server's generate.limit setting)")
+            return products
         inc = [k for k, v in decisions.items() if v] if mode == "completions" else []
         exc = [k for k, v in decisions.items() if not v] if mode == "completions" else []
         with self._lock:
             return list(self.analysis.enumerate(limit=limit, include=inc, exclude=exc))
+
+    def pairwise(self, decisions: Mapping[str, bool], seed: int = 0) -> list[dict[str, bool]]:
+        """A pairwise (t = 2) sample of the products that respect ``decisions``: every
+        configuration is a product, every valid pair of feature choices is in one of them (the
+        counting service's sampler, over the compiled d-DNNF; a SAT solver where d4 cannot
+        count)."""
+        inc = [k for k, v in decisions.items() if v]
+        exc = [k for k, v in decisions.items() if not v]
+        st = self.compile_status()
+        if st.state == "compiling":
+            st = self.analysis.counter.wait(self.compile_budget)
+        try:
+            with self._count_lock:
+                products, _ = self.analysis.sample(t=2, seed=seed, include=inc, exclude=exc,
+                                                   timeout=SAMPLE_BUDGET)
+        except ValueError as e:
+            raise SessionError(f"no pairwise sample: {e}; decide more features first")
+        except (CountTimeout, CountCancelled):
+            raise SessionError(f"no pairwise sample within {SAMPLE_BUDGET:g} s: decide more features first")
+        return products
 
     def plan_generation(self, decisions: Mapping[str, bool], mode: str, folder: Optional[str] = None,
                         limit: int = 100):

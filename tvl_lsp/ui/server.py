@@ -85,6 +85,7 @@ class App:
         def run():
             try:
                 s = self.session(None)
+                s.compile_status()  # compile the model for the counts (d4, in the background)
                 self.check_in_background(s)
                 s.graph  # noqa: B018 (built on first use)
             except Exception:
@@ -107,6 +108,8 @@ class App:
         return fut
 
     def close(self) -> None:
+        from ..analysis.counting.service import cancel_all
+        cancel_all()  # kills the d4 processes of background compilations
         with self.pool_lock:
             self.closed = True
             pool, self.pool = self.pool, None

@@ -232,7 +232,8 @@ function header(targets: Targets | null, m: ModelJson): HTMLElement {
     el('div', { class: 'title' }, el('strong', {}, 'TVL configurator'), models.length > 1 ? picker : el('span', { class: 'muted' }, relative(m.model))),
     el('div', { id: 'count', 'aria-live': 'polite' },
       el('span', { id: 'remaining', 'data-remaining': '' }, '…'), ' of ',
-      el('span', { id: 'total' }, '…'), ' products'),
+      el('span', { id: 'total' }, '…'), ' products',
+      el('span', { id: 'count-status', class: 'muted', 'data-state': 'pending' }, '')),
     el('div', { class: 'search' }, search, results),
     el('div', { class: 'actions' }, expand, collapse, reset, gen),
   );
@@ -427,6 +428,22 @@ function applyState(state: State): void {
   document.body.dataset.complete = String(state.complete);
 }
 
+function sleep(ms: number): Promise<void> {
+  return new Promise((resolve) => setTimeout(resolve, ms));
+}
+
+/** The count status line: data-state is pending (asked), compiling (the model is being compiled
+ * in the background: no counts yet), ready (counts shown) or failed. */
+function countStatus(state: string, text: string, title = ''): void {
+  const s = document.getElementById('count-status') as HTMLElement | null;
+  if (s) {
+    s.dataset.state = state;
+    s.textContent = text;
+    s.title = title;
+  }
+  document.body.dataset.counts = state;
+}
+
 async function refreshCounts(): Promise<void> {
   const a = app;
   if (!a) {
@@ -437,24 +454,49 @@ async function refreshCounts(): Promise<void> {
   const order = [...visible, ...a.diagram.allIds().filter((x) => !visible.includes(x))];
   const rem = document.getElementById('remaining') as HTMLElement;
   rem.classList.add('pending');
+  countStatus('pending', '');
   a.diagram.setCounts(a.counts ? { ...a.counts, features: {} } : null);
+  // the model compiles in the background on first use: the server answers "pending" at once
+  // and we ask again, sooner at first (small models are ready in a few milliseconds)
+  let delay = 100;
   try {
-    const c = await t.request<Counts>('counts', { model: a.model.model, features: order, timeout: 20 });
-    if (seq !== countSeq || app !== a) {
+    for (;;) {
+      const c = await t.request<Counts>('counts', { model: a.model.model, features: order, timeout: 20, wait: 0 });
+      if (seq !== countSeq || app !== a) {
+        return;
+      }
+      if (c.pending) {
+        const secs = c.seconds ? ` ${Math.round(c.seconds)} s` : '';
+        countStatus('compiling', ` · compiling the model for counting…${secs}`, c.message ?? '');
+        a.diagram.setCounts({ ...c, features: {} });
+        await sleep(delay);
+        delay = Math.min(1500, delay * 1.6);
+        if (seq !== countSeq || app !== a) {
+          return;
+        }
+        continue;
+      }
+      a.counts = c;
+      a.diagram.setCounts(c);
+      rem.textContent = formatCount(c.remaining);
+      rem.title = c.remaining ?? 'no answer in time';
+      rem.dataset.remaining = c.remaining ?? '';
+      const tot = document.getElementById('total') as HTMLElement;
+      tot.textContent = formatCount(c.total);
+      tot.title = c.total ?? '';
+      rem.classList.remove('pending');
+      if (c.remaining === null) {
+        countStatus('failed', ' · not counted', c.message ?? '');
+      } else {
+        countStatus('ready', c.complete ? '' : ' · some features not counted in time',
+          c.engine ? `counted by ${c.engine}${c.message ? ` (${c.message})` : ''}` : '');
+      }
       return;
     }
-    a.counts = c;
-    a.diagram.setCounts(c);
-    rem.textContent = formatCount(c.remaining);
-    rem.title = c.remaining ?? 'no answer in time';
-    rem.dataset.remaining = c.remaining ?? '';
-    const tot = document.getElementById('total') as HTMLElement;
-    tot.textContent = formatCount(c.total);
-    tot.title = c.total ?? '';
-    rem.classList.remove('pending');
   } catch (e) {
     if (seq === countSeq) {
       rem.classList.remove('pending');
+      countStatus('failed', ' · counting failed', (e as Error).message);
       toast(`Counting failed: ${(e as Error).message}`, 'error');
     }
   }

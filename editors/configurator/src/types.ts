@@ -117,6 +117,14 @@ export interface Counts {
   features: Record<string, string>;
   complete: boolean;
   decisions: Record<string, boolean>;
+  /** true while the model is being compiled in the background (no counts yet: ask again) */
+  pending?: boolean;
+  /** ready | compiling | failed | unusable: where the model's compilation stands */
+  status?: string;
+  message?: string;
+  seconds?: number;
+  /** d4 | pyganak | trivial: which engine counted */
+  engine?: string | null;
 }
 
 export interface Targets {

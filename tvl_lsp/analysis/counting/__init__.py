@@ -2,7 +2,7 @@
 every count is then a pass over it; pyganak counts where d4 cannot (see :mod:`.service`)."""
 
 from .errors import CancelLike, CountCancelled, CountTimeout, EngineFailed
-from .service import CNFCounter, Count, FeatureCounts
+from .service import CNFCounter, CompileStatus, Count, FeatureCounts
 
-__all__ = ["CNFCounter", "Count", "FeatureCounts", "CancelLike", "CountCancelled", "CountTimeout",
+__all__ = ["CNFCounter", "CompileStatus", "Count", "FeatureCounts", "CancelLike", "CountCancelled", "CountTimeout",
            "EngineFailed"]

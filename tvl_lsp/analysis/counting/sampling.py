@@ -26,7 +26,7 @@ from typing import Optional, Sequence
 
 from .errors import CancelLike, CountCancelled, CountTimeout, is_cancelled
 
-MAX_FEATURES = 1500  # 2n literal passes and 4n^2 bits of bookkeeping: beyond, too slow here
+MAX_FEATURES = 1500  # open features: 2n literal passes and 4n^2 bits of bookkeeping: beyond, too slow here
 
 
 def _idx(x: int) -> int:
@@ -119,8 +119,6 @@ def twise(oracle, n: int, t: int = 2, seed: Optional[int] = 0, assumptions: Sequ
     (t = 1 or 2) of feature literals among the products with ``assumptions``."""
     if t not in (1, 2):
         raise ValueError("t-wise sampling supports t = 1 and t = 2")
-    if n > MAX_FEATURES:
-        raise ValueError(f"t-wise sampling handles models of up to {MAX_FEATURES} features")
     start = time.monotonic()
 
     def check():
@@ -135,6 +133,12 @@ def twise(oracle, n: int, t: int = 2, seed: Optional[int] = 0, assumptions: Sequ
     if not valid:
         return []
     lits = list(_bits(valid))
+    # a feature with one valid literal (decided, core or dead) is in every product as it is: its
+    # literal combines with every valid literal, no pass needed to know which
+    open_ = {i >> 1 for i in lits if (valid >> (i ^ 1)) & 1}
+    if len(open_) > MAX_FEATURES:
+        raise ValueError(f"t-wise sampling handles up to {MAX_FEATURES} open features, "
+                         f"not {len(open_)}")
     # uncovered[i]: bitset of the literals j > i such that (i, j) is valid and not yet covered
     # (t = 1: uncovered[i] has bit i itself when literal i is valid and not yet covered)
     uncovered: dict[int, int] = {}
@@ -144,7 +148,7 @@ def twise(oracle, n: int, t: int = 2, seed: Optional[int] = 0, assumptions: Sequ
     else:
         for i in lits:
             check()
-            sup = oracle.support(base + [_lit(i)])
+            sup = oracle.support(base + [_lit(i)]) if (i >> 1) in open_ else valid
             # pairs with a literal of another variable, above i
             mask = sup & ~((1 << (i | 1) + 1) - 1)
             if mask:

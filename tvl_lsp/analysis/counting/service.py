@@ -33,7 +33,7 @@ import random
 import threading
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Optional, Sequence
+from typing import Callable, Iterable, Optional, Sequence
 
 from . import cache as C
 from .circuit import Circuit, NNFError
@@ -87,6 +87,34 @@ class Compiled:
     path: Optional[str]
     seconds: float
     source: str          # "memory" | "disk" | "d4"
+
+
+@dataclass
+class CompileStatus:
+    """Where the compilation of a CNF stands: ``ready`` (the circuit is in memory: every count is
+    a pass), ``compiling`` (in the background), ``failed`` (d4 failed or ran out of its budget:
+    counts go to pyganak), ``unusable`` (the auxiliary variables are not determined by the
+    features: pyganak counts) or ``idle`` (not started)."""
+    state: str
+    seconds: float = 0.0   # since the compilation started
+    message: str = ""      # progress while compiling, the reason when failed
+
+
+class _Job:
+    """A compilation in a background thread (d4 itself runs in a child process that the
+    thread waits for, so the thread holds no CPU and a cancel kills the child)."""
+
+    def __init__(self, owner: Optional[str]):
+        self.owner = owner
+        self.cancel = threading.Event()
+        self.done = threading.Event()
+        self.error: Optional[str] = None
+        self.started = time.monotonic()
+        self.progress = ""
+
+
+_JOBS: dict[str, _Job] = {}
+_JOBS_LOCK = threading.Lock()
 
 
 def _lock_for(key: str) -> threading.Lock:
@@ -223,6 +251,84 @@ class CNFCounter:
             return Compiled(circ, self.key, str(p) if p else None, time.perf_counter() - t0, source)
         raise EngineFailed("the compiled d-DNNF could not be read back from the cache")
 
+    # ------------------------------------------------------------------ in the background
+    def ready(self) -> bool:
+        """Is the compiled circuit in memory (every count a pass, no waiting)?"""
+        return MEMORY.get(self.key) is not None
+
+    def start(self, timeout: Optional[float] = None, owner: Optional[str] = None) -> CompileStatus:
+        """Make the circuit ready without waiting for it: compile (or read from the disk cache)
+        in a background thread, with ``timeout`` seconds for d4, and return the status at once.
+        One compilation per CNF whatever the number of callers.  ``owner`` (e.g. a model's
+        path): a newer CNF started for the same owner cancels the older one's compilation (the
+        model changed; its d4 process is killed)."""
+        if self.ready():
+            return CompileStatus("ready")
+        if not self.determined:
+            return CompileStatus("unusable", message="the encoding has auxiliary variables the features "
+                                                     "do not determine: pyganak counts")
+        with _JOBS_LOCK:
+            if owner is not None:
+                for k, j in list(_JOBS.items()):
+                    if k != self.key and j.owner == owner and not j.done.is_set():
+                        j.cancel.set()
+            job = _JOBS.get(self.key)
+            if job is not None and (not job.done.is_set() or job.error is not None):
+                return self._status_of(job)
+            failed = _FAILED.get(self.key)
+            if failed is not None and (failed[1] is None or (timeout is not None and timeout <= failed[1])):
+                return CompileStatus("failed", message=failed[0])
+            job = _JOBS[self.key] = _Job(owner)
+
+        def progress(msg: str) -> None:
+            job.progress = msg
+
+        def run() -> None:
+            try:
+                self.circuit(timeout, job.cancel, progress)
+            except (CountTimeout, EngineFailed) as e:
+                job.error = str(e)
+            except CountCancelled:
+                with _JOBS_LOCK:  # a later start compiles again
+                    if _JOBS.get(self.key) is job:
+                        del _JOBS[self.key]
+            except Exception as e:  # noqa: BLE001 (reported as a failure, never raised in a thread)
+                job.error = f"{type(e).__name__}: {e}"
+            finally:
+                job.done.set()
+
+        threading.Thread(target=run, name=f"tvl-compile-{self.label}", daemon=True).start()
+        return CompileStatus("compiling", 0.0, f"compiling {self.label} with d4")
+
+    def status(self) -> CompileStatus:
+        """The status without starting anything."""
+        if self.ready():
+            return CompileStatus("ready")
+        if not self.determined:
+            return CompileStatus("unusable")
+        with _JOBS_LOCK:
+            job = _JOBS.get(self.key)
+        if job is not None:
+            return self._status_of(job)
+        failed = _FAILED.get(self.key)
+        return CompileStatus("failed", message=failed[0]) if failed else CompileStatus("idle")
+
+    def _status_of(self, job: _Job) -> CompileStatus:
+        dt = time.monotonic() - job.started
+        if not job.done.is_set():
+            return CompileStatus("compiling", dt, job.progress or f"compiling {self.label} with d4")
+        if job.error is not None:
+            return CompileStatus("failed", dt, job.error)
+        return CompileStatus("ready", dt) if self.ready() else CompileStatus("idle", dt)
+
+    def wait(self, timeout: Optional[float] = None) -> CompileStatus:
+        """Wait (at most ``timeout`` seconds) for a compilation started with :meth:`start`."""
+        with _JOBS_LOCK:
+            job = _JOBS.get(self.key)
+        if job is not None:
+            job.done.wait(timeout)
+        return self.status()
+
     def _check_lits(self, assumptions: Sequence[int]) -> list[int]:
         out = []
         for x in assumptions:
@@ -264,9 +370,11 @@ class CNFCounter:
 
     def feature_counts(self, assumptions: Sequence[int] = (), timeout: Optional[float] = None,
                        cancel: CancelLike = None, progress: Progress = None,
-                       backbone: Optional[Callable[[], dict[int, bool]]] = None) -> FeatureCounts:
+                       backbone: Optional[Callable[[], dict[int, bool]]] = None,
+                       order: Optional[Iterable[int]] = None) -> FeatureCounts:
         """The number of products with each feature (within the decisions), in one pass over
-        the compiled circuit; one projected count per open feature with pyganak."""
+        the compiled circuit; one projected count per open feature with pyganak (the features
+        numbered in ``order`` first, then the others, as far as the time budget goes)."""
         t0 = time.perf_counter()
         lits = self._check_lits(assumptions)
         n = self.n_features
@@ -293,7 +401,8 @@ class CNFCounter:
         if total and backbone is not None and not lits:
             bb = backbone()
         complete = True
-        for v in range(1, n + 1):
+        first = [v for v in (order or ()) if 1 <= v <= n]
+        for k, v in enumerate(dict.fromkeys(first + list(range(1, n + 1))), 1):
             if v in fixed:
                 counts[v] = total if fixed[v] else 0
             elif not total:
@@ -310,8 +419,8 @@ class CNFCounter:
                 except CountTimeout:
                     complete = False
                     break
-            if progress and v % 50 == 0:
-                progress(f"counting feature {v} of {n} with pyganak")
+            if progress and k % 50 == 0:
+                progress(f"counting feature {k} of {n} with pyganak")
         self.last_engine = "pyganak"
         return FeatureCounts(total, counts, "pyganak", time.perf_counter() - t0, complete, note)
 
@@ -397,5 +506,16 @@ class CNFCounter:
 
 
 def forget_failures() -> None:
-    """Forget remembered d4 failures (tests)."""
+    """Forget remembered d4 failures and finished background compilations (tests)."""
     _FAILED.clear()
+    with _JOBS_LOCK:
+        for k, j in list(_JOBS.items()):
+            if j.done.is_set():
+                del _JOBS[k]
+
+
+def cancel_all() -> None:
+    """Cancel every background compilation (a host that stops)."""
+    with _JOBS_LOCK:
+        for j in _JOBS.values():
+            j.cancel.set()
