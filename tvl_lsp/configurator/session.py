@@ -66,15 +66,16 @@ class Session:
     def __init__(self, model_path: str, roots: Optional[Iterable[str]] = None,
                  read_file: Optional[ReadFile] = None, launches: Optional[list[str]] = None,
                  project_files: Optional[list[str]] = None):
-        from ..analysis.engine import ModelAnalysis
-        from ..tvl import parse_model
+        from ..project import models
         self.model_path = norm(model_path)
         self.read_file = read_file or default_read_file
         self.roots = [norm(r) for r in roots] if roots else [find_workspace_root(self.model_path)]
         text = self.read_file(self.model_path)
         if text is None:
             raise SessionError(f"cannot read {self.model_path}")
-        res = parse_model(text, self.model_path, read_file=self.read_file)
+        # parsed and encoded once per text in this process: a second session on the same files
+        # (another view, the server's check and counts) shares the analysis and its compiled model
+        res, self.analysis = models.load(self.model_path, text, self.read_file)
         errors = [d for d in res.diagnostics if d.severity == Severity.ERROR]
         if res.model is None or res.model.root is None:
             raise SessionError(f"{os.path.basename(self.model_path)} has no root feature")
@@ -85,7 +86,6 @@ class Session:
         self.model = res.model
         self.sources = dict(res.model.sources or {})
         self.sources[self.model_path] = text
-        self.analysis = ModelAnalysis(res.model)
         self.names = [self.analysis.name(f) for f in self.model.features]
         self._by_name = {n: f for n, f in zip(self.names, self.model.features)}
         self._alias = {}

@@ -6,6 +6,7 @@ in worker threads on plain data (text + a reader over a snapshot of the open doc
 from __future__ import annotations
 
 import logging
+import os
 from pathlib import Path
 from typing import Callable, Optional, Sequence
 
@@ -117,4 +118,20 @@ def full_check_worker(kind: str, path: str, text: str, texts: dict[str, str], ro
     if _LAST_EPOCH[0] != epoch:
         check.invalidate_workspaces()
         _LAST_EPOCH[0] = epoch
-    return full_check(kind, path, text, SnapshotReader(texts), roots, budget, None)
+    read = SnapshotReader(texts)
+    if kind == "tvl":
+        _start_compiling(path, text, read, budget)
+    return full_check(kind, path, text, read, roots, budget, None)
+
+
+def _start_compiling(path: str, text: str, read: Reader, budget: float) -> None:
+    """Start d4 on the model (in the background: its own process) before the anomaly search,
+    so the counts the server asks for next (hover, code lens) are ready sooner; the check
+    parses and encodes the model once for both (tvl_lsp.project.models)."""
+    try:
+        from ..project import models
+        res, analysis = models.load(path, text, read)
+        if res.model is not None and res.model.root is not None and not res.errors:
+            analysis.counter.start(budget, owner=os.path.normpath(os.path.abspath(path)))
+    except Exception:  # noqa: BLE001 (the check reports what is wrong with the model)
+        log.debug("no background compilation of %s", path, exc_info=True)

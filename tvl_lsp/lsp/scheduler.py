@@ -25,6 +25,8 @@ from . import checks
 from .documents import content_key
 from .workers import _consume
 
+FACTS_POLL = 0.3  # seconds: how often the server asks whether a model's compilation is done
+
 log = logging.getLogger("tvl_lsp.server")
 
 
@@ -214,20 +216,47 @@ class Scheduler:
 
             async def compute():
                 cfut = None
+                pool_of = "check"
                 try:
-                    cfut = self.proc_pool.submit(_facts.compute_model_facts, model_path, sources, budget)
-                    self._facts_queued[model_path] = (key[1], cfut)
-                    afut = asyncio.wrap_future(cfut)
-                    afut.add_done_callback(_consume)
-                    facts = await asyncio.wait_for(asyncio.shield(afut), budget + 30)
+                    # first in the check process, which has just parsed and encoded this text
+                    # for its diagnostics (one parse, one encoding: tvl_lsp.project.models);
+                    # d4 compiles in the background there and the check process stays free
+                    # for checks: ask again until the circuit is ready, then one pass counts
+                    end = loop.time() + budget + 30
+                    while True:
+                        cfut = self.check_pool.submit(_facts.compute_model_facts, model_path, sources, budget,
+                                                      FACTS_POLL)
+                        self._facts_queued[model_path] = (key[1], cfut)
+                        afut = asyncio.wrap_future(cfut)
+                        afut.add_done_callback(_consume)
+                        facts = await asyncio.wait_for(asyncio.shield(afut), max(1.0, end - loop.time()) + 10)
+                        if facts.pending != "compiling":
+                            break
+                        if loop.time() > end:
+                            return _facts.ModelFacts(error=f"no count within {budget:g} s")
+                        await asyncio.sleep(FACTS_POLL)
+                        queued = self._facts_queued.get(model_path)
+                        if queued is not None and queued[0] != key[1]:
+                            return _facts.ModelFacts(error="cancelled: the model changed")
+                    if facts.pending == "fallback":
+                        # d4 cannot count it: pyganak, one count per feature, in the count
+                        # process (a slow count there never delays a check)
+                        pool_of = "count"
+                        cfut = self.proc_pool.submit(_facts.compute_model_facts, model_path, sources, budget)
+                        self._facts_queued[model_path] = (key[1], cfut)
+                        afut = asyncio.wrap_future(cfut)
+                        afut.add_done_callback(_consume)
+                        facts = await asyncio.wait_for(asyncio.shield(afut), budget + 30)
                 except (cf.CancelledError, asyncio.CancelledError):
                     if cfut is not None and cfut.cancelled():
                         return _facts.ModelFacts(error="cancelled: the model changed")
                     raise
                 except Exception as e:
                     facts = _facts.ModelFacts(error=f"{type(e).__name__}: {e}")
-                    if isinstance(e, (BrokenProcessPool, asyncio.TimeoutError)):
+                    if pool_of == "count" and isinstance(e, (BrokenProcessPool, asyncio.TimeoutError)):
                         self.restart_proc_pool()
+                    elif pool_of == "check" and isinstance(e, asyncio.TimeoutError):
+                        self.restart_check_pool()  # (a broken one: the next check restarts it)
                     return facts
                 # (a count that ran out of its budget is cached too: the same text and
                 # budget would run out again)

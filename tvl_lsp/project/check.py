@@ -61,16 +61,15 @@ class _ModelInfo:
 
 def _load_model(path: str, read_file: ReadFile, text: Optional[str] = None,
                 anomalies: bool = True, timeout: Optional[float] = 10.0) -> Optional[_ModelInfo]:
-    from ..analysis.engine import ModelAnalysis
-    from ..tvl import parse_model
+    from . import models
     if text is None:
         text = read_file(path)
     if text is None:
         return None
-    res = parse_model(text, path, read_file=read_file)
+    # parsed and encoded once per text in this process (the server's counts reuse it)
+    res, analysis = models.load(path, text, read_file)
     diags = list(res.diagnostics)
     has_errors = any(d.severity == Severity.ERROR for d in diags)
-    analysis = ModelAnalysis(res.model)
     if anomalies and res.model.root is not None:
         try:
             diags += analysis.anomalies(time_budget=timeout)

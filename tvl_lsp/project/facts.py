@@ -23,6 +23,10 @@ class ModelFacts:
     false_optional: set[str] = field(default_factory=set)
     error: Optional[str] = None
     seconds: float = 0.0
+    # set when computed with ``wait``: "compiling" (d4 still compiles the model in the
+    # background: ask again) or "fallback" (d4 cannot count it: ask without ``wait``, where a
+    # slow pyganak count blocks nothing)
+    pending: Optional[str] = None
 
 
 def _names(items) -> set[str]:
@@ -41,19 +45,32 @@ def _names(items) -> set[str]:
 
 
 def _engine(path: str, sources: dict[str, str]):
-    from ..analysis.engine import ModelAnalysis
-    from ..tvl import parse_model
-    res = parse_model(sources[path], path, read_file=sources.get)
-    return ModelAnalysis(res.model)
+    from . import models
+    return models.load(path, sources[path], sources.get)[1]
 
 
-def compute_model_facts(path: str, sources: dict[str, str], timeout: float) -> ModelFacts:
+def compute_model_facts(path: str, sources: dict[str, str], timeout: float,
+                        wait: Optional[float] = None) -> ModelFacts:
     """Total count, per-feature counts and anomalies of the model at ``path`` (``sources``:
-    its text and the texts of the files it includes)."""
+    its text and the texts of the files it includes).  The model is parsed and encoded once per
+    process (:mod:`.models`: the check of the same text shares it).  With ``wait``, the
+    compilation runs in the background (d4 in its child process, ``timeout`` seconds at most)
+    and the answer comes within about ``wait`` seconds: ``pending="compiling"`` until the
+    circuit is ready (call again), ``pending="fallback"`` when d4 cannot count the model."""
     t0 = time.perf_counter()
     facts = ModelFacts()
     try:
         eng = _engine(path, sources)
+        if wait is not None and eng.model.root is not None:
+            svc = eng.counter
+            from .workspace import norm
+            st = svc.start(timeout, owner=norm(path))
+            if st.state == "compiling":
+                st = svc.wait(wait)
+            if st.state in ("compiling", "idle"):
+                return ModelFacts(pending="compiling", seconds=time.perf_counter() - t0)
+            if st.state in ("failed", "unusable"):
+                return ModelFacts(pending="fallback", seconds=time.perf_counter() - t0)
         t_end = time.monotonic() + timeout
         # every feature's count in one pass over the compiled model (d4), or one projected
         # count per feature (pyganak) as far as the budget goes

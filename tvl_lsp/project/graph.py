@@ -85,7 +85,6 @@ def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: O
                project_files: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None) -> GraphContext:
     """Pair, parse, load symbolically and build the graph of ``launch`` (see the module doc)."""
     from ..launch import analyse_any
-    from ..tvl import parse_model
     path = norm(launch)
     base_read = read_file or default_read_file
 
@@ -114,12 +113,12 @@ def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: O
         mtext = read(model_path)
         if mtext is None:
             raise GraphError(f"cannot read the model {model_path}")
-        res = parse_model(mtext, model_path, read_file=read)
+        from . import models
+        res, ma = models.load(model_path, mtext, read)
         from .check import STRUCTURAL
         if res.model.root is None or any(d.code in STRUCTURAL for d in res.diagnostics):
             raise GraphError(f"{os.path.basename(model_path)} has syntax errors: fix them first "
                              "(tvl-lsp --check lists them)")
-        ma = ModelAnalysis(res.model)
         enc = ma.encoding
         features = [enc.name_of(f) for f in enc.features]
     free = [n for n in free_args_of(text, path) if enc is None or enc.feature_by_name(n) is None]

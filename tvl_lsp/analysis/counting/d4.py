@@ -184,9 +184,24 @@ def compile_file(cnf_path: str, out_path: str, timeout: Optional[float] = None, 
     return _run_child(cnf_path, out_path, timeout, cancel, progress, options, nice)
 
 
+def _die_with_parent() -> None:
+    """Linux: this compilation ends when the process that asked for it dies (a worker process
+    of the language server killed with SIGKILL leaves no d4 running)."""
+    parent = os.getppid()
+    try:
+        import ctypes
+        import signal
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
+    except Exception:  # noqa: BLE001 (elsewhere: the parent's kill on cancel still ends it)
+        return
+    if parent == 1 or os.getppid() != parent:
+        os._exit(1)
+
+
 def _worker_main(argv: list[str]) -> int:
     cnf_path, out_path = argv[0], argv[1]
     options = json.loads(argv[2]) if len(argv) > 2 else None
+    _die_with_parent()
     # d4 prints statistics on fd 1: keep our report channel apart and send d4's chatter away
     report_fd = os.dup(1)
     devnull = os.open(os.devnull, os.O_WRONLY)
