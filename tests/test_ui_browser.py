@@ -371,3 +371,47 @@ def test_webview_transport(browser, ui):
         wait_counts(pg, "1")
     finally:
         ctx.close()
+
+
+def test_a_flat_model_draws_its_first_children_and_more_on_demand(page, tmp_path):
+    """A root with 130 children (industrial models converted from DIMACS look like this): 40 are
+    drawn with "••• 90 more", a click on it draws the rest, a searched feature is drawn wherever
+    it is, and a click on a drawn feature is answered with its count."""
+    ws = tmp_path / "ws" / "src" / "flat" / "launch"
+    ws.mkdir(parents=True)
+    names = [f"Opt{i}" for i in range(130)]
+    (ws / "flat.tvl").write_text("root Flat {\n  group [0..*] {\n" + ",\n".join(f"    opt {n}" for n in names)
+                                 + "\n  }\n  Opt1 -> Opt2;\n}\n")
+    (tmp_path / "ws" / ".catkin_workspace").write_text("")
+    env = dict(os.environ, TVL_LSP_CACHE_DIR=str(tmp_path / "cache"))
+    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(tmp_path / "ws"), "--no-browser"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        url = proc.stdout.readline().strip()
+        page.goto(url)
+        page.wait_for_selector("body[data-ready=diagram]", timeout=30000)
+        page.wait_for_selector("#remaining:not([data-remaining=''])", timeout=60000)
+        assert page.locator("g.feature").count() == 41
+        more = page.locator('g.feature[data-feature="Flat"] text.more')
+        assert more.text_content() == "••• 90 more"
+        assert feature(page, "Opt100").count() == 0
+        more.click()
+        page.wait_for_function("document.querySelectorAll('g.feature').length === 131")
+        assert more.text_content() == ""
+        page.locator("#collapse-all").click()
+        page.wait_for_function("document.querySelectorAll('g.feature').length === 41")
+        # a feature found by the search box is drawn although it is beyond the first 40
+        page.locator("#search").fill("Opt117")
+        page.locator("#search").press("Enter")
+        page.wait_for_selector('g.feature[data-feature="Opt117"]', timeout=10000)
+        assert page.locator("g.feature").count() == 42
+        total = 2 ** 130 * 3 // 4
+        assert remaining(page) == str(total)
+        page.wait_for_timeout(400)  # the reveal's transition
+        click(page, "Opt117", "include")
+        wait_counts(page, str(total // 2))
+        assert feature(page, "Opt117").get_attribute("data-status") == "user-in"
+        page.screenshot(path=str(REPO / ".artifacts" / "ui" / "flat-model.png"))
+    finally:
+        proc.terminate()
+        proc.wait(timeout=20)

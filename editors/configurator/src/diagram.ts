@@ -15,6 +15,10 @@ const H = 60;
 const GAP_X = 22;
 const GAP_Y = 64;
 const SVGNS = 'http://www.w3.org/2000/svg';
+// children drawn under an expanded feature before "••• N more" (a flat model of 2,500 features
+// under its root stays fast to draw and to click); each click on it draws MORE_KIDS more
+const MAX_KIDS = 40;
+const MORE_KIDS = 100;
 
 interface ViewNode {
   key: string;
@@ -46,6 +50,8 @@ export class Diagram {
   private positions = new Map<string, { x: number; y: number }>();
   private highlighted: string | null = null;
   private fitted = false;
+  private kidLimit = new Map<string, number>(); // feature -> children drawn (default MAX_KIDS)
+  private pinned = new Set<string>(); // features drawn whatever their parent's limit (found ones)
 
   constructor(private host: HTMLElement, private root: FeatureNode, private handlers: DiagramHandlers) {
     const index = (n: FeatureNode, parent?: FeatureNode) => {
@@ -87,8 +93,8 @@ export class Diagram {
           return;
         }
         this.expanded.add(n.id);
-        shown += n.children.length;
-        next.push(...n.children);
+        shown += Math.min(n.children.length, MAX_KIDS);
+        next.push(...n.children.slice(0, MAX_KIDS));
       }
       frontier = next;
     }
@@ -97,12 +103,21 @@ export class Diagram {
   private view(): ViewNode {
     const build = (n: FeatureNode, key: string, parentGroup: string | null): ViewNode => {
       const open = this.expanded.has(n.id) && !n.ref;
+      const limit = this.kidLimit.get(n.id) ?? MAX_KIDS;
+      const kids: ViewNode[] = [];
+      if (open) {
+        n.children.forEach((c, i) => {
+          if (i < limit || this.pinned.has(c.id)) {
+            kids.push(build(c, `${key}/${i}:${c.id}`, n.group?.kind ?? null));
+          }
+        });
+      }
       return {
         key,
         data: n,
         parentGroup,
-        kids: open ? n.children.map((c, i) => build(c, `${key}/${i}:${c.id}`, n.group?.kind ?? null)) : [],
-        hidden: open || n.ref ? 0 : n.children.length,
+        kids,
+        hidden: n.ref ? 0 : n.children.length - kids.length,
       };
     };
     return build(this.root, this.root.id, null);
@@ -176,7 +191,9 @@ export class Diagram {
     enter.each((d, i, groups) => this.buildNode(select(groups[i]), d.data));
     enter.merge(sel).attr('transform', (d) => `translate(${d.x},${d.y})`)
       .each((d, i, groups) => {
-        select(groups[i]).select('text.more').text(d.data.hidden ? `••• ${d.data.hidden}` : '');
+        const more = d.data.hidden ? `••• ${d.data.hidden}${d.data.kids.length ? ' more' : ''}` : '';
+        select(groups[i]).select('text.more').text(more)
+          .attr('data-more', d.data.kids.length && d.data.hidden ? 'partial' : null);
       });
 
     if (anchor && before) {
@@ -242,7 +259,7 @@ export class Diagram {
       g.select('text.name').style('cursor', 'pointer').on('click', () => this.toggle(f.id, v.key));
       g.append('text').attr('class', 'more').attr('x', 0).attr('y', H / 2 + 14).attr('text-anchor', 'middle')
         .text(v.hidden ? `••• ${v.hidden}` : '')
-        .on('click', () => this.toggle(f.id, v.key));
+        .on('click', () => this.more(f.id, v.key));
     } else {
       box.on('click', () => this.handlers.select(f));
     }
@@ -273,6 +290,20 @@ export class Diagram {
         act(ev);
       }
     });
+  }
+
+  /** "••• N": expand a collapsed feature; under an expanded one, draw more of its children. */
+  private more(id: string, key: string): void {
+    const f = this.byId.get(id);
+    if (f && this.expanded.has(id)) {
+      const limit = this.kidLimit.get(id) ?? MAX_KIDS;
+      if (limit < f.children.length) {
+        this.kidLimit.set(id, limit + MORE_KIDS);
+        this.render(key);
+        return;
+      }
+    }
+    this.toggle(id, key);
   }
 
   private toggle(id: string, key: string): void {
@@ -361,9 +392,12 @@ export class Diagram {
 
   /** Expand the ancestors of a feature, centre on it and highlight it. */
   reveal(id: string): void {
+    let c = id;
     let p = this.parentOf.get(id);
     while (p) {
       this.expanded.add(p);
+      this.pinned.add(c); // drawn even beyond its parent's first children
+      c = p;
       p = this.parentOf.get(p);
     }
     this.highlighted = id;
@@ -391,12 +425,13 @@ export class Diagram {
       if (n.ref || !n.children.length) {
         continue;
       }
-      if (shown + n.children.length > limit) {
+      const k = Math.min(n.children.length, this.kidLimit.get(n.id) ?? MAX_KIDS);
+      if (shown + k > limit) {
         break;
       }
       this.expanded.add(n.id);
-      shown += n.children.length;
-      order.push(...n.children);
+      shown += k;
+      order.push(...n.children.slice(0, k));
     }
     this.fitted = false;
     this.render(null);
@@ -404,6 +439,8 @@ export class Diagram {
 
   collapseAll(): void {
     this.expanded.clear();
+    this.kidLimit.clear();
+    this.pinned.clear();
     this.expanded.add(this.root.id);
     this.fitted = false;
     this.render(null);

@@ -451,7 +451,8 @@ async function refreshCounts(): Promise<void> {
   }
   const seq = ++countSeq;
   const visible = a.diagram.visibleIds();
-  const order = [...visible, ...a.diagram.allIds().filter((x) => !visible.includes(x))];
+  const shown = new Set(visible);
+  const order = [...visible, ...a.diagram.allIds().filter((x) => !shown.has(x))];
   const rem = document.getElementById('remaining') as HTMLElement;
   rem.classList.add('pending');
   countStatus('pending', '');
