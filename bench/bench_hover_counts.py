@@ -64,6 +64,7 @@ def dimacs_to_tvl(text: str, root: str) -> tuple[str, list[str]]:
 
 async def start(b: Bench, root: Path, budget: float) -> None:
     os.environ["TVL_LSP_LOGFILE"] = str(root.parent / "server.log")
+    os.environ.setdefault("TVL_LSP_LOG", "INFO")
     await b.client.start_io(sys.executable, "-m", "tvl_lsp")
     caps = types.ClientCapabilities(
         window=types.WindowClientCapabilities(work_done_progress=True),

@@ -80,6 +80,7 @@ class Scheduler:
                 reader = self.snapshot_reader()
                 try:
                     diags, parsed = await self.run_in_thread(checks.syntax_check, kind, path, text, reader, self.roots)
+                    log.info("syntax of %s: %d diagnostics", path, len(diags))
                     self._store_parsed(path, text, parsed)
                 except Exception:
                     log.exception("syntax check of %s failed", path)
@@ -122,6 +123,7 @@ class Scheduler:
                 if self._generation.get(uri) != generation:
                     return
             try:
+                log.info("check of %s: submitted", path)
                 cfut = self.check_pool.submit(checks.full_check_worker, kind, path, text, texts,
                                               self.roots_for(path), budget, self.epoch)
                 afut = asyncio.wrap_future(cfut)
@@ -146,6 +148,7 @@ class Scheduler:
                 return  # stale: the text changed meanwhile
             self.results[uri] = CheckResult(version, "full", diags)
             self.publish(uri)
+            log.info("check of %s: %d diagnostics", path, len(diags))
             self.prefetch_facts(path, kind)
         except asyncio.CancelledError:
             pass
@@ -231,6 +234,7 @@ class Scheduler:
                         afut.add_done_callback(_consume)
                         facts = await asyncio.wait_for(asyncio.shield(afut), max(1.0, end - loop.time()) + 10)
                         if facts.pending != "compiling":
+                            log.info("facts of %s: %s", model_path, facts.pending or "counted")
                             break
                         if loop.time() > end:
                             return _facts.ModelFacts(error=f"no count within {budget:g} s")

@@ -189,7 +189,8 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     logfile = os.environ.get("TVL_LSP_LOGFILE")
     if logfile:
-        logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING"), filename=logfile)
+        logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING"), filename=logfile,
+                            format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     else:
         logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING"), stream=sys.stderr)
     server = create_server()
