@@ -114,7 +114,10 @@ def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: O
         if mtext is None:
             raise GraphError(f"cannot read the model {model_path}")
         from . import models
-        res, ma = models.load(model_path, mtext, read)
+        # the parse is shared; the analysis is the graph's own: its solver calls (many, on big
+        # models) must not hold the lock of the analysis a configurator's clicks use
+        res, _ = models.load(model_path, mtext, read)
+        ma = ModelAnalysis(res.model)
         from .check import STRUCTURAL
         if res.model.root is None or any(d.code in STRUCTURAL for d in res.diagnostics):
             raise GraphError(f"{os.path.basename(model_path)} has syntax errors: fix them first "
