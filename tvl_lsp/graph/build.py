@@ -84,7 +84,8 @@ def instances_of_result(result) -> tuple[list[Instance], list[ParamInstance]]:
         loc = Location(n.get("file", ""), Span(Pos(line, 0), Pos(line, 0)), f'<node name="{n["name"]}">')
         insts.append(Instance(n["name"], n["pkg"], n["type"], n["namespace"], TRUE,
                               [(f, t, TRUE, None) for f, t in n.get("remaps", [])], loc))
-    params = [ParamInstance(k, v, TRUE, None) for k, v in result.params.items()]
+    text = getattr(result, "param_text", None) or {}
+    params = [ParamInstance(k, text.get(k, str(v)), TRUE, None) for k, v in result.params.items()]
     return insts, params
 
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Any, Optional
 
 from ..base.formula import FALSE, Formula
 from ..base.diagnostics import Diagnostic, Severity
@@ -147,6 +147,7 @@ class ErrorFact:
     span: Span
     condition: Formula
     related: list[tuple[str, Span, str]] = field(default_factory=list)
+    arg: Optional[str] = None  # the arg a fact is about, where that matters (unset-arg of a free arg)
 
 
 @dataclass
@@ -162,10 +163,19 @@ class IncludeFact:
 
 @dataclass
 class ParamFact:
+    """A parameter roslaunch sets when ``condition`` holds: ``name`` (global, canonical),
+    ``value`` as text for people (a ``textfile`` / ``binfile`` by its path, a ``command`` by its
+    command line), ``data`` the value roslaunch sets (``int``, ``float``, ``bool``, ``str``,
+    lists and dicts from YAML, ...; the path / command line for the three file and command
+    sources), ``source``: ``value`` (a ``<param value>``), ``yaml`` (a ``<rosparam>``),
+    ``textfile``, ``binfile`` or ``command``.  Facts come in roslaunch's order: for one name
+    the last fact that holds wins."""
     name: str
     value: str
     element: Element
     condition: Formula
+    data: Any = None
+    source: str = "value"
 
 
 @dataclass
@@ -183,15 +193,46 @@ class LaunchAnalysis:
     dialect: str = "ros1"               # "ros1" (roslaunch) or "ros2" (ros2/launch)
     # ROS 2: top-level args with <choice> values: name -> (values, the <arg> element)
     choices: dict = field(default_factory=dict)
+    # free args declared without value or default whose value the load uses: roslaunch run with
+    # the file's defaults fails on them (a paired model's features are set by its configurations)
+    required_args: list[str] = field(default_factory=list)
 
 
 @dataclass
 class LoadResult:
-    """What roslaunch loads for one assignment of args (first error in ``error``)."""
+    """What roslaunch loads for one assignment of args (first error in ``error``).
+
+    ``params``: name -> the value roslaunch sets (typed, see :class:`ParamFact` ``data``);
+    ``param_sources``: name -> ``textfile`` / ``binfile`` / ``command`` for the parameters
+    shown by path or command line instead of their content; ``param_text``: name -> the value
+    as text for people."""
     nodes: list[dict]
-    params: dict[str, str]
+    params: dict[str, Any]
     remaps: list[dict]
     includes: list[dict]
     error: Optional[str]
     error_code: Optional[str] = None
     warnings: list[str] = field(default_factory=list)
+    param_sources: dict[str, str] = field(default_factory=dict)
+    param_text: dict[str, str] = field(default_factory=dict)
+
+
+def json_value(v: Any) -> Any:
+    """A parameter value as JSON (``tvl-lsp launch --json``): YAML's types as they are,
+    ``!!binary`` as ``{"__binary__": length}``, dates as ``{"__date__": iso}``, non-finite
+    floats as ``{"__float__": "nan" | "inf" | "-inf"}``, anything else as ``{"__repr__": ...}``."""
+    import datetime
+    import math
+    if isinstance(v, bytes):
+        return {"__binary__": len(v)}
+    if v is None or isinstance(v, (bool, int, str)):
+        return v
+    if isinstance(v, float):
+        return v if math.isfinite(v) else {"__float__": repr(v)}
+    if isinstance(v, (list, tuple)):
+        return [json_value(x) for x in v]
+    if isinstance(v, dict):
+        return {str(k): json_value(x) for k, x in v.items()}
+    if isinstance(v, (datetime.date, datetime.datetime)):
+        return {"__date__": v.isoformat()}
+    return {"__repr__": repr(v)}

@@ -47,6 +47,7 @@ class XElement:
     text: str = ""                 # direct text and CDATA children, concatenated
     line: int = 0
     tag_span: Span | None = None   # the tag name inside the start tag
+    content_start: int = -1        # raw offset just after the start tag (-1: unknown)
 
 
 @dataclass
@@ -310,7 +311,8 @@ def _build(root_el, raw: list[_RawTag], text: str, index: LineIndex, path: str,
             else:
                 attrs[k] = XAttr(k, v, span, span, None, index.offset(span.start))
         txt = el.text or ""
-        x = XElement(tag, span, attrs, [], "", (el.sourceline or 1) - 1, tag_span)
+        x = XElement(tag, span, attrs, [], "", (el.sourceline or 1) - 1, tag_span,
+                     rt.end if rt is not None and not text[max(rt.end - 2, 0):rt.end] == "/>" else -1)
         parts = [txt]
         for child in el:
             if isinstance(child.tag, str):
@@ -347,3 +349,82 @@ def value_span(attr: XAttr, index: LineIndex, i: int, j: int) -> Span:
     if index.offset(attr.value_span.end) - start != len(attr.value):
         return attr.value_span
     return index.span(start + i, start + j)
+
+
+_TEXT_ENTITY = re.compile(r"&(#x[0-9A-Fa-f]+|#[0-9]+|[A-Za-z_][\w.-]*);")
+
+
+def text_offsets(doc_text: str, x: XElement) -> list[int] | None:
+    """Raw offset of every character of ``x.text`` (plus one past the end), for exact ranges
+    inside an element's body (``<rosparam>`` YAML): CDATA sections, character and predefined
+    entity references, comments, processing instructions and ``\r\n`` line ends are mapped.
+    None when the body has child elements or cannot be mapped exactly."""
+    i = x.content_start
+    if i < 0:
+        return None
+    n = len(doc_text)
+    chars: list[str] = []
+    offs: list[int] = []
+    while i < n:
+        c = doc_text[i]
+        if c == "<":
+            if doc_text.startswith("<![CDATA[", i):
+                j = doc_text.find("]]>", i + 9)
+                if j < 0:
+                    return None
+                for k in range(i + 9, j):
+                    ch = doc_text[k]
+                    if ch == "\r":
+                        if k + 1 < j and doc_text[k + 1] == "\n":
+                            continue
+                        ch = "\n"
+                    chars.append(ch)
+                    offs.append(k)
+                i = j + 3
+                continue
+            if doc_text.startswith("<!--", i):
+                j = doc_text.find("-->", i + 4)
+                if j < 0:
+                    return None
+                i = j + 3
+                continue
+            if doc_text.startswith("<?", i):
+                j = doc_text.find("?>", i + 2)
+                if j < 0:
+                    return None
+                i = j + 2
+                continue
+            if doc_text.startswith("</", i):
+                break
+            return None  # a child element
+        if c == "&":
+            m = _TEXT_ENTITY.match(doc_text, i)
+            if m is None:
+                return None
+            ref = m.group(1)
+            try:
+                if ref.startswith("#x"):
+                    val = chr(int(ref[2:], 16))
+                elif ref.startswith("#"):
+                    val = chr(int(ref[1:]))
+                else:
+                    val = _PREDEF[ref]
+            except (KeyError, ValueError, OverflowError):
+                return None
+            for v in val:
+                chars.append(v)
+                offs.append(i)
+            i = m.end()
+            continue
+        if c == "\r":
+            if i + 1 < n and doc_text[i + 1] == "\n":
+                i += 1
+                continue
+            c = "\n"
+        chars.append(c)
+        offs.append(i)
+        i += 1
+    offs.append(i)
+    if "".join(chars) != x.text:
+        return None
+    return offs

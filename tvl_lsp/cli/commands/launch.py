@@ -10,6 +10,10 @@ neither in the workspace nor in ``AMENT_PREFIX_PATH`` counts as installed with a
 folder (``--strict-packages``: launch's "package not found" error instead).  Python launch
 files are never executed: ``launch`` stops at an include of one.  The dialect of a
 ``.launch.xml`` file is detected (``--dialect`` forces it).
+
+ROS 1 with --json: "params" maps each parameter to the value roslaunch sets (typed as roslaunch
+types it: numbers, booleans, strings, YAML lists and maps), except those in "param_sources"
+(textfile / binfile / command), given by path or command line.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ import os
 import sys
 
 from ...launch import dialect_of, load_launch
+from ...launch.model import json_value
 
 
 def main(argv: list[str]) -> int:
@@ -68,7 +73,9 @@ def main(argv: list[str]) -> int:
         return _ros2(path, args, workspace, as_json, strict)
     res = load_launch(path, args, workspace_root=workspace)
     if as_json:
-        out = {"file": path, "args": args, "nodes": res.nodes, "params": res.params, "remaps": res.remaps,
+        out = {"file": path, "args": args, "nodes": res.nodes,
+               "params": {k: json_value(v) for k, v in res.params.items()},
+               "param_sources": res.param_sources, "remaps": res.remaps,
                "includes": res.includes, "warnings": res.warnings}
         if res.error is not None:
             out["error"] = res.error
@@ -85,8 +92,9 @@ def main(argv: list[str]) -> int:
                 print(f"      remap {f_} -> {t_}")
         if res.params:
             print("params:")
-            for k, v in sorted(res.params.items()):
-                print(f"  {k} = {v}")
+            for k in sorted(res.params):
+                src = res.param_sources.get(k)
+                print(f"  {k} = {res.param_text.get(k, res.params[k])}" + (f"  ({src})" if src else ""))
         if res.includes:
             print("includes:")
 

@@ -132,10 +132,24 @@ def is_legal_name(name: str) -> bool:
     return bool(NAME_LEGAL.match(name)) and "//" not in name
 
 
+OPAQUE = "\x05"  # after UNRESOLVED: a value tvl-lsp cannot compute (an $(eval) it does not evaluate)
+_MARKED = re.compile(UNRESOLVED + r"([^" + UNRESOLVED + r"]*)" + UNRESOLVED)
+
+
+def opaque(value: str) -> str:
+    """A value tvl-lsp cannot compute, e.g. ``$(eval ...)`` beyond its interpreter: it is
+    treated like the path of a package outside the workspace (no check looks into it) and
+    printed back as written.  (The leading ``$`` is dropped inside the marker so that the
+    value is never taken for a substitution again.)"""
+    return UNRESOLVED + OPAQUE + (value[1:] if value.startswith("$") else value) + UNRESOLVED
+
+
 def shown(s: str) -> str:
-    """A value for messages: unresolved $(find) markers printed back as written."""
+    """A value for messages: unresolved $(find) markers and opaque values printed back as
+    written."""
     s = s.replace(POISON, "<error>")
-    return re.sub(UNRESOLVED + r"([^" + UNRESOLVED + r"]*)" + UNRESOLVED, r"$(find \1)", s)
+    return _MARKED.sub(lambda m: "$" + m.group(1)[1:] if m.group(1).startswith(OPAQUE)
+                       else f"$(find {m.group(1)})", s)
 
 
 def merge(cases: Iterable[tuple[Formula, str]]) -> Cases:
@@ -177,26 +191,49 @@ def _is_float(v: str) -> bool:
         return False
 
 
+def convert_value(value: str, ptype: str):
+    """roslaunch's ``convert_value(value, type)`` (loader.py): the typed value, or raises
+    ``ValueError`` with roslaunch's message (``yaml``: rosparam's YAML, see :mod:`.rosyaml`)."""
+    ptype = ptype.lower()
+    if ptype == "auto":
+        try:
+            if "." in value:
+                return float(value)
+            if "_" not in value:
+                return int(value)
+        except ValueError:
+            pass
+        lv = value.lower()
+        if lv in ("true", "false"):
+            return lv == "true"
+        return value
+    if ptype in ("str", "string"):
+        return value
+    if ptype == "int":
+        return int(value)
+    if ptype == "double":
+        return float(value)
+    if ptype in ("bool", "boolean"):
+        lv = value.lower().strip()
+        if lv in ("true", "1"):
+            return True
+        if lv in ("false", "0"):
+            return False
+        raise ValueError(f"{lv} is not a '{ptype}' type")
+    if ptype == "yaml":
+        from . import rosyaml
+        try:
+            return rosyaml.load(value)
+        except yaml.YAMLError as e:
+            raise ValueError(str(e)[:200]) from None
+    raise ValueError(f"Unknown type '{ptype}'")
+
+
 def _convert_error(value: str, ptype: str) -> Optional[str]:
     if "$(" in value or UNRESOLVED in value:
         return None
-    if ptype == "auto" or ptype in ("str", "string"):
-        return None
     try:
-        if ptype == "int":
-            int(value)
-        elif ptype == "double":
-            float(value)
-        elif ptype in ("bool", "boolean"):
-            if value.lower().strip() not in ("true", "1", "false", "0"):
-                return f"{value.lower().strip()} is not a '{ptype}' type"
-        elif ptype == "yaml":
-            try:
-                yaml.safe_load(value)
-            except yaml.YAMLError as e:
-                return str(e)[:200]
-        else:
-            return f"Unknown type '{ptype}'"
+        convert_value(value, ptype)
     except ValueError as e:
         return str(e)
     return None

@@ -8,13 +8,14 @@ from typing import Optional
 
 from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
 from ...base.diagnostics import Diagnostic
-from ..model import Element, NodeFact, ParamFact, RemapCase
+from ..model import Element, NodeFact, RemapCase
 from ..xml import XElement
 from .rules import (Cases, DUPLICATE_NODE, EMPTY_NS, ENV_INVALID, ILLEGAL_NAME, INVALID_VALUE,
                     LAUNCH_CHILD_TAGS, LAUNCH_IF_UNLESS, MACHINE_INVALID, MISSING_ATTRIBUTE, NODE_NAME_NS,
                     REMAP_INVALID, RESPAWN_REQUIRED, TAG_ATTRS, TEST_INVALID, UNKNOWN_ATTRIBUTE, UNKNOWN_TAG,
                     UNRESOLVED, W, _attr_bool, _bool_val, _is_float, canonicalize, is_legal_name,
                     make_global_ns, merge, ns_join, shown, when)
+from .params import NodeParams, param_ns
 from .scopes import Scope
 
 
@@ -201,6 +202,7 @@ class TagRules:
                               self.aspan(el, "respawn_delay"), c)
         # children
         remaps = list(sc.remaps)
+        node_params = NodeParams(scopes, name)
         node_remap_scope = Scope.__new__(Scope)
         node_remap_scope.remaps = remaps
         for cx in x.children:
@@ -214,9 +216,9 @@ class TagRules:
                     cel.condition = disj([cel.condition, c2])
                     self.remap_tag(cx, cel, sc, c2, node_remap_scope)
             elif t == "param":
-                self.param_tag(cx, cel, sc, cond, node_ns=(scopes, name))
+                self.param_tag(cx, cel, sc, cond, node=node_params)
             elif t == "rosparam":
-                self.rosparam_tag(cx, cel, sc, cond, node_ns=(scopes, name))
+                self.rosparam_tag(cx, cel, sc, cond, node=node_params)
             elif t == "env":
                 c2 = self.ifunless(cx, cel, sc, cond)
                 if c2 != FALSE:
@@ -255,11 +257,14 @@ class TagRules:
                               node_remaps, is_test)
                 nf.remap_cases = [RemapCase(shown(f), shown(t), rcc, rel) for f, t, rc, rel in node_remap_scope.remaps
                                   for rcc in [conj([rc, c])] if rcc != FALSE]
-                for pname, pcases, pc in sc.params:
-                    for vc, pv in pcases:
-                        pcond = conj([c, pc, vc])
-                        if pcond != FALSE:
-                            self.params.append(ParamFact(shown(full + "/" + pname[1:]), shown(pv), el, pcond))
+                # roslaunch: the scope's ~params, then the node's own <param>s, each under the
+                # node's private namespace (a leading ~ dropped, a leading / too: <param
+                # name="/x"> inside a node is /ns/node/x)
+                pns = param_ns(child.ns, nm)
+                for pname, pvals, pc, pel in list(sc.params) + node_params.local:
+                    key = pname[1:] if pname.startswith("~") else pname
+                    for vc, data, text, source in pvals:
+                        self.add_param(pns + key, data, text, source, pel, conj([c, pc, vc]))
                 if is_test:
                     self.nodes.append(nf)
                     continue
