@@ -1,4 +1,5 @@
-"""Files named explicitly on the command line: rostest / `.xml` launch files are checked; a
+"""Files named explicitly on the command line: rostest / `.xml` launch files are checked (in
+folders too, the other XML files counted); a
 file that is not checked is reported on stderr (what it was taken to be, why it was skipped),
 and ``--strict`` makes that an error."""
 
@@ -81,8 +82,14 @@ def test_checked_and_unchecked_files_together(run, tmp_path: Path):
     assert _notices(r.stderr) == [] and "named file(s) not checked" not in r.stderr
 
 
-def test_xml_inside_a_folder_walk_is_not_taken_for_a_launch_file(run, tmp_path: Path):
-    (tmp_path / "urdf.xml").write_text("<launch><node name='x'/></launch>\n")
+def test_folder_walk_finds_rostest_and_xml_launch_files_and_counts_the_other_xml(run, tmp_path: Path):
+    (tmp_path / "bringup.xml").write_text("<?xml version='1.0'?>\n<!-- a launch file named .xml -->\n"
+                                          "<launch><node name='x'/></launch>\n")
+    (tmp_path / "ok.test").write_text("<launch><test test-name='t' pkg='p' type='t'/></launch>\n")
+    (tmp_path / "robot.xml").write_text("<robot><link name='x'/></robot>\n")
+    (tmp_path / "package.xml").write_text("<package><name>p</name></package>\n")
     r = run("--check", str(tmp_path))
-    assert r.returncode == 0
-    assert "0 file(s) checked" in r.stderr
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert "bringup.xml" in r.stdout and "missing-attribute" in r.stdout
+    assert "ok.test" not in r.stdout
+    assert "2 file(s) checked; 1 XML file(s) skipped: their root element is not <launch>" in r.stderr

@@ -128,7 +128,10 @@ def test_correct_pair_has_no_warnings():
 
 def test_alone_launch_file_uses_free_booleans():
     diags = check_paths([str(PAIRS / "alone")], jobs=1)
-    assert sorted(d.code for d in diags) == ["dead-element", "duplicate-node"]
+    assert sorted(d.code for d in diags) == ["dead-element", "duplicate-node", "unset-arg", "unset-arg"]
+    # roslaunch run with the file's defaults fails: its free args have none (warnings)
+    assert sorted(d.data["arg"] for d in _by_code(diags, "unset-arg")) == ["real", "sim"]
+    assert all(d.severity == Severity.WARNING for d in _by_code(diags, "unset-arg"))
     (dup,) = _by_code(diags, "duplicate-node")
     assert dup.witness == {"sim": True, "real": True}
     (dead,) = _by_code(diags, "dead-element")
@@ -189,6 +192,10 @@ def test_cross_check_without_model_on_a_bare_analysis():
     text = '<launch><arg name="a"/><node pkg="p" type="t" name="n" if="$(arg a)"/>' \
            '<node pkg="p" type="t" name="n" unless="$(arg a)"/></launch>'
     la = analyse_launch(text, "/tmp/x.launch", features=["a"])
+    # alone, `a` has no default: roslaunch needs it on the command line (a warning)
+    assert [(d.code, d.severity) for d in cross_check(la)] == [("unset-arg", Severity.WARNING)]
+    la = analyse_launch(text.replace('<arg name="a"/>', '<arg name="a" default="true"/>'), "/tmp/x.launch",
+                        features=["a"])
     assert cross_check(la) == []
 
 

@@ -62,6 +62,7 @@ UNMATCHED_ARG = register(
 DEAD_ELEMENT = register(
     "dead-element", Severity.WARNING,
     "An element of the launch file is loaded by no product of the model.", "cross")
+UNSET_ARG = "unset-arg"  # registered by the launch front end (tvl_lsp.launch.ros1.rules)
 CONSTANT_CONDITION = register(
     "constant-condition", Severity.INFORMATION,
     "An if/unless condition has the same value in every product where it is evaluated.", "cross")
@@ -236,6 +237,19 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
     else:
         free = free_args
 
+    # a launch file checked alone: a free arg without default that the load uses makes roslaunch
+    # run with the file's defaults fail (with a model, the top-level args are its features, set
+    # by its configurations; one that names no feature is already unmatched-arg)
+    decl = {a.name: a for a in feature_args}
+    for name in (getattr(launch, "required_args", None) or ()) if model is None else ():
+        a = decl.get(name)
+        if a is None:
+            continue
+        out.append(Diagnostic(
+            UNSET_ARG, Severity.WARNING, path, a.name_span,
+            f"'{name}' has no default: roslaunch fails unless it is given on the command line ({name}:=true or "
+            f"{name}:=false); tvl-lsp checks the file with both values", data={"arg": name}))
+
     own_logic = logic is None
     if logic is None:
         logic = PairLogic(encoding if model is not None else None, free)
@@ -396,11 +410,9 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
             related = [Related(fact.path, fact.span, "the error, in the included file")] + related
             msg = f"in the included file {os.path.basename(fact.path)}: {msg}"
             path, span = launch.path, inc.span
-        # unset-arg stops roslaunch (an error fact of the load), but --check reports it as a
-        # warning (issue 5, docs/diagnostics.md): the command line may set the arg -- only an
-        # arg of this file, not of a file it includes (an include starts a fresh arg scope)
-        sev = (Severity.WARNING if fact.code == "unset-arg" and fact.path == launch.path
-               else fact.severity)
+        # the launch model says how bad it is: unset-arg is a warning where the command line can
+        # give the value (this file, files included with pass_all_args), an error elsewhere
+        sev = fact.severity
         if fact.condition == fm.TRUE and fact.severity >= Severity.INFORMATION:
             if path == fact.path:
                 out.append(Diagnostic(fact.code, sev, path, span, msg, related=related))

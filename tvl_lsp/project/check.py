@@ -31,7 +31,6 @@ Pure: no LSP here; files are read through ``read_file(path) -> str | None`` call
 from __future__ import annotations
 
 import os
-import re
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
@@ -39,7 +38,8 @@ from typing import Callable, Iterable, Optional, Sequence
 
 from ..base.diagnostics import Diagnostic, Related, Severity
 from .workspace import (Files, Pairing, Workspace, default_read_file, discover_files, find_workspace_root,
-                        is_launch, is_model, is_yaml, load_workspace, norm)
+                        is_launch, is_model, is_xml_launch_candidate, is_yaml, launch_root_text, load_workspace,
+                        norm)
 
 ReadFile = Callable[[str], Optional[str]]
 
@@ -130,6 +130,12 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
     out: list[Diagnostic] = []
     done_alone = False
     dialect = dialect_of(path, text)
+    free_cache: dict = {}
+
+    def tops(paired: bool = False) -> list[str]:
+        if paired not in free_cache:
+            free_cache[paired] = free_top_args(text, path, root, read_file, paired=paired)
+        return list(free_cache[paired])
     for p in pairings or [Pairing(path, None, "none")]:
         info = None
         if p.model is not None:
@@ -145,7 +151,7 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
         if info is not None:
             enc = info.analysis.encoding
             features = [enc.name_of(f) for f in enc.features]
-            features += [n for n in free_top_args(text, path, paired=True) if enc.feature_by_name(n) is None]
+            features += [n for n in tops(paired=True) if enc.feature_by_name(n) is None]
             if dialect.ros2:
                 from ..analysis.choices import pair_choices
                 from ..launch.ros2 import choice_args
@@ -153,7 +159,7 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                 selectors = {k: p.selectors for k, p in pairings_of_choices.items() if p.selectors is not None}
                 features = [f for f in features if f not in pairings_of_choices]
         else:
-            features = free_top_args(text, path)
+            features = tops()
         try:
             la = analyse_any(text, path, workspace_root=root, read_file=read_file, features=features,
                              choices=selectors, dialect=dialect, partial=partial and info is None,
@@ -207,77 +213,25 @@ def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing, r
         return [_internal(la.path, f"graph check failed: {exc!r}")]
 
 
-_ARG_USE = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
 
-
-_STR_LIT = r"""(?:'[^']*'|"[^"]*"|\[)"""
-_EVAL_NAME = r"""(?:arg\(\s*['"]([^'"]+)['"]\s*\)|\b([A-Za-z_]\w*)\b)"""
-_CMP_RIGHT = re.compile(_EVAL_NAME + r"\s*(?:==|!=|\bnot\s+in\b|\bin\b)\s*" + _STR_LIT)
-_CMP_LEFT = re.compile(_STR_LIT[:-1] + r")\s*(?:==|!=)\s*" + _EVAL_NAME)
-
-
-def _string_compared(value: str) -> set[str]:
-    """Args an ``$(eval)`` compares with a string literal: string args, not booleans."""
-    out = set()
-    for rx in (_CMP_RIGHT, _CMP_LEFT):
-        for m in rx.finditer(value):
-            out.update(g for g in m.groups() if g)
-    return out
-
-
-def free_top_args(text: str, path: str, paired: bool = False) -> list[str]:
+def free_top_args(text: str, path: str, workspace_root: Optional[str] = None,
+                  read_file: Optional[ReadFile] = None, paired: bool = False) -> list[str]:
     """The top-level args checked as free booleans: every direct ``<arg>`` child of
     ``<launch>`` without ``value`` (a default is only what roslaunch uses when the command
-    line does not set it) that is used only as a boolean -- as a whole ``if`` / ``unless``
-    value or inside ``$(eval)``.  An arg also used as a string (a name, a file) keeps its
-    default: ``true`` / ``false`` would be meaningless there; so does one an ``$(eval)`` compares
-    with a string (``arg('robot') == 'pmb2'``).  With a model, the features are
-    added to these (and those naming no feature are reported as ``unmatched-arg``).  A ROS 2
+    line does not set it) whose value is only ever used as a boolean -- as a whole ``if`` /
+    ``unless`` value or a boolean operand inside ``$(eval)`` -- in this file and in the files
+    it passes it to (``<include>`` args, ``pass_all_args``).  An arg also used as a string (a
+    name, a file, a parameter value, a string comparison such as ``arg('robot') == 'pmb2'``)
+    keeps its default: ``true`` / ``false`` would be meaningless there (see
+    :func:`tvl_lsp.launch.ros1.loader.free_args`).  With a model, the features are added to
+    these (and those naming no feature are reported as ``unmatched-arg``).  A ROS 2
     file: :func:`tvl_lsp.launch.ros2.free_args2`."""
-    from ..launch import free_args_of_file, parse_xml
+    from ..launch import free_args_of_file
     ros2 = free_args_of_file(text, path, unused=paired)
     if ros2 is not None:
         return ros2
-    doc = parse_xml(text, path)
-    if doc.root is None or doc.root.tag != "launch":
-        return []
-    names = []
-    for x in doc.root.children:
-        a = x.attrs
-        if x.tag == "arg" and "name" in a and "value" not in a and "$" not in a["name"].value:
-            names.append(a["name"].value)
-    used_as_string: set[str] = set()
-    stack = list(doc.root.children)
-    while stack:
-        x = stack.pop()
-        stack.extend(x.children)
-        for k, a in x.attrs.items():
-            if k in ("if", "unless") and _ARG_USE.fullmatch(a.value.strip() or "-"):
-                continue
-            if a.value.lstrip().startswith("$(eval"):
-                used_as_string.update(_string_compared(a.value))
-                continue
-            used_as_string.update(m.group(1) for m in _ARG_USE.finditer(a.value))
-    # an arg computed from others (value="$(eval ...)") that is a string makes them strings too
-    computed = []
-    stack = list(doc.root.children)
-    while stack:
-        x = stack.pop()
-        stack.extend(x.children)
-        if x.tag == "arg" and "name" in x.attrs and "value" in x.attrs:
-            v = x.attrs["value"].value
-            reads = set(_ARG_USE.findall(v))
-            if "$(eval" in v:
-                reads |= set(re.findall(r"[A-Za-z_]\w*", v))
-            computed.append((x.attrs["name"].value, reads))
-    grew = True
-    while grew:
-        grew = False
-        for name, reads in computed:
-            if name in used_as_string and not reads <= used_as_string:
-                used_as_string |= reads
-                grew = True
-    return [n for n in dict.fromkeys(names) if n not in used_as_string]
+    from ..launch.ros1.loader import free_args
+    return free_args(text, path, workspace_root, read_file)
 
 
 def _note_pairing(d: Diagnostic, p: Pairing, root: str) -> Diagnostic:
@@ -498,7 +452,7 @@ def check_document(path: str, text: Optional[str] = None, read_file: Optional[Re
         return []
     if is_model(path):
         return _dedupe_sort(check_model(path, text, read, timeout))
-    if is_launch(path):
+    if is_launch(path) or (is_xml_launch_candidate(path) and launch_root_text(text)):
         rts = _roots_for(path, roots)
         ws = workspace or _workspace(rts, read)
         pairings, pdiags = ws.pair(path, text)

@@ -119,38 +119,54 @@ class Files:
     launches: list[str] = field(default_factory=list)
     yamls: list[str] = field(default_factory=list)
     manifests: list[str] = field(default_factory=list)  # package.xml
+    # .xml / .test files whose root element is not <launch> (URDF, SDF, ...): not launch files
+    skipped_xml: list[str] = field(default_factory=list)
 
     def extend(self, other: "Files") -> None:
         self.models += other.models
         self.launches += other.launches
         self.yamls += other.yamls
         self.manifests += other.manifests
+        self.skipped_xml += other.skipped_xml
 
     def dedupe(self) -> "Files":
         return Files(*(sorted(set(lst)) for lst in
-                       (self.models, self.launches, self.yamls, self.manifests)))
+                       (self.models, self.launches, self.yamls, self.manifests, self.skipped_xml)))
 
 
-def _looks_like_launch(path: str) -> bool:
-    """An ``.xml`` / ``.test`` file whose root element is ``<launch>`` (rostest files, and
-    launch files named ``*.xml``); only asked of files named explicitly on the command line."""
-    if not path.endswith((".xml", ".test")) or os.path.basename(path) == "package.xml":
-        return False
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(4096).decode("utf-8", "replace")
-    except OSError:
-        return False
-    head = re.sub(r"<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>", "", head, flags=re.S).lstrip()
+def is_xml_launch_candidate(path: str) -> bool:
+    """A ``.xml`` / ``.test`` file that may be a launch file (rostest files, launch files named
+    ``*.xml``): it is one when its root element is ``<launch>``."""
+    return path.endswith((".xml", ".test")) and os.path.basename(path) != "package.xml"
+
+
+def launch_root_text(text: str) -> bool:
+    """Whether an XML text's root element is ``<launch>`` (the XML declaration, comments and a
+    DOCTYPE before it skipped)."""
+    head = re.sub(r"<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>", "", text[:65536], flags=re.S).lstrip()
     return head.startswith("<launch") and (len(head) == 7 or not head[7].isalnum())
 
 
-def _classify(path: str, out: Files, explicit: bool = False) -> None:
+def _looks_like_launch(path: str) -> bool:
+    """An ``.xml`` / ``.test`` file whose root element is ``<launch>``."""
+    if not is_xml_launch_candidate(path):
+        return False
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(16384).decode("utf-8", "replace")
+    except OSError:
+        return False
+    return launch_root_text(head)
+
+
+def _classify(path: str, out: Files) -> None:
     base = os.path.basename(path)
     if is_model(path):
         out.models.append(path)
-    elif is_launch(path) or (explicit and _looks_like_launch(path)):
+    elif is_launch(path):
         out.launches.append(path)
+    elif is_xml_launch_candidate(path):
+        (out.launches if _looks_like_launch(path) else out.skipped_xml).append(path)
     elif is_yaml(path):
         out.yamls.append(path)
     elif base == "package.xml":
@@ -208,7 +224,7 @@ def discover_files(paths: Iterable[str]) -> Files:
                 for fn in filenames:
                     _classify(os.path.join(dirpath, fn), out)
         elif os.path.isfile(p):
-            _classify(p, out, explicit=True)
+            _classify(p, out)
     return out.dedupe()
 
 

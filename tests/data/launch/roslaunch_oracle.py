@@ -1,8 +1,18 @@
 """Differential-test oracle: run Debian's real roslaunch (python3-roslaunch) on launch files.
 
 Run with /usr/bin/python3 (not the venv). Reads a JSON list of jobs
-``[{"file": PATH, "args": {name: value}, "package_path": DIR}]`` on stdin and prints a JSON
-list of ``{"ok": bool, "nodes": [resolved names], "error": type, "message": str}``.
+``[{"file": PATH, "args": {name: value}, "package_path": DIR, "env": {...}}]`` on stdin and
+prints a JSON list of ``{"ok": bool, "nodes": [resolved names], "params": [names],
+"values": {name: value}, "error": type, "message": str}``.
+
+``values`` are the parameter values roslaunch would set, made JSON-safe: ``Binary`` ->
+``{"__binary__": length}``, dates -> ``{"__date__": iso}``, other objects -> ``{"__repr__": repr}``;
+non-finite floats as ``{"__float__": "nan" | "inf" | "-inf"}``.
+
+A job with ``"commands": "check"`` does not run the programs of ``<param command=...>``: it checks
+that the program exists (as roslaunch's ``no such command`` error does) and sets the parameter to
+``"$(command ...)"``; used on third-party repositories, whose commands (xacro, scripts) are not
+run here.  Package look-ups are cached per ``package_path``.
 """
 import io
 import json
@@ -11,6 +21,39 @@ import sys
 
 
 _ENV0 = dict(os.environ)
+_RP = {}
+_REAL_PARAM_VALUE = []
+
+
+def _checked_param_value(self, verbose, name, ptype, value, textfile, binfile, command):
+    if command is None:
+        return _REAL_PARAM_VALUE[0](self, verbose, name, ptype, value, textfile, binfile, command)
+    import shlex
+    import shutil
+    words = shlex.split(command)
+    prog = words[0] if words else ""
+    found = os.path.isfile(prog) if "/" in prog else shutil.which(prog) is not None
+    if not found:
+        raise ValueError("Cannot load command parameter [%s]: no such command [%s]" % (name, words))
+    return "$(command %s)" % command
+
+
+def jsonable(v):
+    import datetime
+    import math
+    if isinstance(v, bool) or v is None or isinstance(v, (int, str)):
+        return v
+    if isinstance(v, float):
+        return v if math.isfinite(v) else {"__float__": repr(v)}
+    if isinstance(v, (list, tuple)):
+        return [jsonable(x) for x in v]
+    if isinstance(v, dict):
+        return {str(k): jsonable(x) for k, x in v.items()}
+    if isinstance(v, (datetime.date, datetime.datetime)):
+        return {"__date__": v.isoformat()}
+    if type(v).__name__ == "Binary":
+        return {"__binary__": len(v.data)}
+    return {"__repr__": repr(v)}
 
 
 def run(job):
@@ -27,7 +70,15 @@ def run(job):
     for k, v in job.get("env", {}).items():
         os.environ[k] = v
     import roslaunch.substitution_args as sa
-    sa._rospack = rospkg.RosPack()  # fresh package cache per job
+    import roslaunch.loader as rl_loader
+    pp = job.get("package_path", "")
+    if pp not in _RP:
+        _RP[pp] = rospkg.RosPack()
+    sa._rospack = _RP[pp]
+    if not _REAL_PARAM_VALUE:
+        _REAL_PARAM_VALUE.append(rl_loader.Loader.param_value)
+    rl_loader.Loader.param_value = (_checked_param_value if job.get("commands") == "check"
+                                    else _REAL_PARAM_VALUE[0])
     from roslaunch.config import ROSLaunchConfig
     from roslaunch.xmlloader import XmlLoader
     argv = ["roslaunch", job["file"]] + ["%s:=%s" % kv for kv in sorted(job.get("args", {}).items())]
@@ -39,7 +90,9 @@ def run(job):
     try:
         loader.load(job["file"], cfg, argv=argv, verbose=False)
         nodes = sorted(n.namespace + n.name if n.name else "" for n in cfg.nodes)
-        return {"ok": True, "nodes": nodes, "params": sorted(cfg.params), "warnings": list(cfg.config_errors)}
+        values = {k: jsonable(p.value) for k, p in cfg.params.items()}
+        return {"ok": True, "nodes": nodes, "params": sorted(cfg.params), "values": values,
+                "warnings": list(cfg.config_errors)}
     except BaseException as e:  # noqa: roslaunch raises all sorts of things
         return {"ok": False, "error": type(e).__name__, "message": str(e)[:500]}
     finally:

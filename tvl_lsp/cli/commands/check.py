@@ -132,8 +132,10 @@ def main(argv: Optional[list[str]] = None) -> int:
         found = discover_files(paths)
         not_checked = {os.path.abspath(p) for p, _ in skipped}
         checked = sum(1 for f in found.models + found.launches + found.yamls if f not in not_checked)
+        other_xml = sum(1 for f in found.skipped_xml if f not in not_checked)
         print(f"{n_err} error(s), {n_warn} warning(s), {n_other} note(s) in {files} file(s); "
-              f"{checked} file(s) checked" + (f", {len(skipped)} named file(s) not checked" if skipped else ""),
+              f"{checked} file(s) checked" + (f", {len(skipped)} named file(s) not checked" if skipped else "")
+              + (f"; {other_xml} XML file(s) skipped: their root element is not <launch>" if other_xml else ""),
               file=sys.stderr)
     if n_err or (ns.strict and (n_warn or skipped)):
         return 1

@@ -13,7 +13,7 @@ from ..model import Element, IncludeFact
 from ..xml import XElement
 from .rules import (INCLUDE_ARG_NO_VALUE, INCLUDE_CYCLE, INCLUDE_INVALID, INCLUDE_NOT_FOUND, INCLUDE_TOO_DEEP,
                     INVALID_VALUE, MAX_INCLUDE_DEPTH, MISSING_ATTRIBUTE, UNDEFINED_ARG, UNRESOLVED, UNSET_ARG,
-                    UNUSED_INCLUDE_ARG, W, _attr_bool, merge, shown)
+                    UNUSED_INCLUDE_ARG, W, OPAQUE, _attr_bool, merge, shown)
 from .scopes import Scope
 
 
@@ -85,6 +85,8 @@ class IncludeRules:
                       el.tag_span, conj([c, d, neg(have)]))
         passed = {n: disj(vc for vc, _ in vs) for n, vs in inc_args.items()}
         child.args = {n: list(vs) for n, vs in inc_args.items()}
+        # the command line's values reach the included file only through pass_all_args
+        child.cmdline = sc.cmdline if pass_all else FALSE
         child.arg_names = {}
         child.include_args = None
         child.include_names = None
@@ -94,7 +96,7 @@ class IncludeRules:
         if UNRESOLVED in fname:
             el.unresolved = True
             m = re.search(UNRESOLVED + "([^" + UNRESOLVED + "]*)" + UNRESOLVED, fname)
-            inc.package = m.group(1) if m else None
+            inc.package = m.group(1) if m and not m.group(1).startswith(OPAQUE) else None
             return
         path = os.path.abspath(fname)
         in_ws = any(path.startswith(p.rstrip("/") + "/") for p in self.packages.values())

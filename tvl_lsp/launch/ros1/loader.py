@@ -34,6 +34,7 @@ from ..model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnaly
 from ..packages import find_packages, guess_workspace_root
 from ..xml import XElement, XmlDoc, parse_xml, value_span
 from .rules import _satisfiable, BUDGET, Cases, E, I, MAX_VISITS, MAX_WALK_DEPTH, NO_LAUNCH_ROOT, W
+from .argtypes import ArgTyping, marker
 from .includes import IncludeRules
 from .params import ParamRules
 from .scopes import Scope, ScopeRules
@@ -56,8 +57,10 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
     ``concrete=True``); the tag rules live in the mixins."""
 
     def __init__(self, *, concrete: bool, workspace_root: Optional[str], read_file, env: Mapping[str, str],
-                 packages: Optional[dict[str, str]] = None):
+                 packages: Optional[dict[str, str]] = None, typing: Optional[ArgTyping] = None):
         self.concrete = concrete
+        self.typing = typing  # an arg-typing walk (argtypes.py): values are markers, facts do not matter
+        self.flow = 0         # > 0 while resolving values that pass args on (if/unless, <arg> values)
         self.read_file = read_file
         self.env = env
         self.packages = dict(packages) if packages is not None else find_packages(workspace_root)
@@ -204,6 +207,8 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
         self.static_checks(u.launch, emap, path)
         sc = Scope("/", path)
         sc.args = root_args
+        if self.concrete:
+            sc.cmdline = FALSE  # the command line is known: these args are all it gives
         lel = emap[id(u.launch)]
         lel.condition = TRUE
         self.launch_tag(u.launch, lel, sc)
@@ -259,7 +264,8 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
                     continue
                 el.condition = disj([el.condition, cond])
                 for c, child in self.ns_clear_params(x, el, sc, cond, "group"):
-                    child.params = list(child.params)
+                    child.params = list(child.params)  # roslaunch copies a group's params
+                    child.params_link = None
                     self.recurse(x.children, child, c, emap)
             elif t == "node":
                 self.node_tag(x, el, sc, guard, emap, False)
@@ -295,24 +301,54 @@ def _top_args(doc_root: Optional[XElement]) -> list[XElement]:
     return [x for x in doc_root.children if x.tag == "arg"]
 
 
-def _boolean_only_args(launch: XElement, names: set[str]) -> set[str]:
-    """Top-level args never used as a string: every ``$(arg X)`` is a whole if/unless
-    condition or inside an ``$(eval)`` (where 'true'/'false' become booleans)."""
-    bad: set[str] = set()
-    pat = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
-    stack = [(c, "launch") for c in launch.children]
-    while stack:
-        x, ptag = stack.pop()
-        stack.extend((c, x.tag) for c in x.children)
-        for k, a in x.attrs.items():
-            if k in ("if", "unless", "required", "respawn", "clear_params", "pass_all_args", "subst_value") \
-                    or S.is_eval(a.value):
-                continue
-            if x.tag == "arg" and ptag == "include" and k == "value" and pat.fullmatch(a.value.strip()):
-                continue  # passed on whole to an include
-            for m in pat.finditer(a.value):
-                bad.add(m.group(1))
-    return names - bad
+def _candidates(launch: Optional[XElement], with_defaults: bool) -> list[str]:
+    """Top-level args that may be free: no ``value`` (and no ``default`` unless
+    ``with_defaults``), a plain name."""
+    out = []
+    for x in _top_args(launch):
+        a = x.attrs
+        if "name" in a and "value" not in a and (with_defaults or "default" not in a) and "$" not in a["name"].value:
+            out.append(a["name"].value)
+    return list(dict.fromkeys(out))
+
+
+def arg_uses(text: str, path: str, names: Iterable[str], workspace_root: Optional[str] = None, read_file=None, *,
+             env: Optional[Mapping[str, str]] = None, packages: Optional[dict[str, str]] = None,
+             doc: Optional[XmlDoc] = None) -> ArgTyping:
+    """How the load uses the values of the top-level args ``names`` (see :mod:`.argtypes`):
+    a walk of the file and its includes with each arg's value an opaque marker."""
+    names = list(names)
+    typing = ArgTyping(names)
+    if not names:
+        return typing
+    if workspace_root is None and packages is None and os.path.isabs(path):
+        workspace_root = guess_workspace_root(path)
+    w = Walker(concrete=False, workspace_root=workspace_root, read_file=read_file,
+               env=os.environ if env is None else env, packages=packages, typing=typing)
+    try:
+        w.run_root(path, text, {n: [(TRUE, marker(n))] for n in names}, doc)
+    except RecursionError:
+        pass
+    return typing
+
+
+def free_args(text: str, path: str, workspace_root: Optional[str] = None, read_file=None, *,
+              with_defaults: bool = True, env: Optional[Mapping[str, str]] = None,
+              packages: Optional[dict[str, str]] = None, doc: Optional[XmlDoc] = None) -> list[str]:
+    """The top-level args a launch file checked on its own takes as free booleans: those
+    without ``value`` (and, unless ``with_defaults`` is False, with or without a default: a
+    default is only what roslaunch uses when the command line does not set the arg) whose
+    value the load -- this file and the files it includes, through ``<arg>`` values, include
+    args and ``pass_all_args`` -- only ever uses as a boolean (a whole if/unless value, a
+    boolean operand in ``$(eval)``).  An arg also used as a string (a name, a file, a
+    parameter value, a string comparison) keeps its value: true/false would be meaningless."""
+    if doc is None:
+        doc = parse_xml(text, path)
+    launch = doc.root if doc.root is not None and doc.root.tag == "launch" else None
+    names = _candidates(launch, with_defaults)
+    typing = arg_uses(text, path, names, workspace_root, read_file, env=env, packages=packages, doc=doc)
+    strings = typing.strings()
+    return [n for n in names if n not in strings]
 
 
 def analyse_launch(text: str, path: str, workspace_root: Optional[str] = None, read_file=None, *,
@@ -331,13 +367,11 @@ def analyse_launch(text: str, path: str, workspace_root: Optional[str] = None, r
     doc = parse_xml(text, path)
     launch = doc.root if doc is not None and doc.root is not None and doc.root.tag == "launch" else None
     feature_decls: list[ArgDecl] = []
-    tops = _top_args(launch)
-    plain = {x.attrs["name"].value for x in tops if "name" in x.attrs and "value" not in x.attrs
-             and "default" not in x.attrs and "$" not in x.attrs["name"].value}
     if features is not None:
         free = [f for f in features]
     elif launch is not None:
-        free = sorted(_boolean_only_args(launch, plain))
+        free = sorted(free_args(text, path, workspace_root, read_file, with_defaults=False, env=env,
+                                packages=w.packages, doc=doc))
     else:
         free = []
     root_args = {f: [(Var(f), "true"), (neg(Var(f)), "false")] for f in free}
@@ -351,7 +385,26 @@ def analyse_launch(text: str, path: str, workspace_root: Optional[str] = None, r
                                              a["value"].value if "value" in a else None,
                                              a["doc"].value if "doc" in a else None, path, el))
     return LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, _merge_facts(w.facts),
-                          w.includes, w.params, root)
+                          w.includes, w.params, root, _required_free(feature_decls, free, w))
+
+
+def _required_free(decls: list[ArgDecl], free: list[str], w: Walker) -> list[str]:
+    """Free args declared without value or default whose value the load uses: roslaunch run
+    with the file's defaults fails on them."""
+    free_set = set(free)
+    cands = {d.name for d in decls if d.name in free_set and d.default is None and d.value is None}
+    if not cands:
+        return []
+    used: set[str] = set()
+    formulas = [e.condition for e in w.elements] + [n.condition for n in w.nodes] + \
+               [p.condition for p in w.params] + [f.condition for f in w.facts] + [i.condition for i in w.includes]
+    for f in formulas:
+        if f is TRUE or f is FALSE:
+            continue
+        used |= variables(f) & cands
+        if len(used) == len(cands):
+            break
+    return sorted(used)
 
 
 def _merge_facts(facts: list[ErrorFact]) -> list[ErrorFact]:
@@ -361,7 +414,7 @@ def _merge_facts(facts: list[ErrorFact]) -> list[ErrorFact]:
         key = (f.code, f.path, f.span, f.message)
         g = out.get(key)
         if g is None:
-            out[key] = ErrorFact(f.code, f.severity, f.message, f.path, f.span, f.condition, list(f.related))
+            out[key] = ErrorFact(f.code, f.severity, f.message, f.path, f.span, f.condition, list(f.related), f.arg)
         else:
             g.condition = disj([g.condition, f.condition])
             for r in f.related:
@@ -431,10 +484,17 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
     nodes = [dict(name=n.name, pkg=n.pkg, type=n.type, namespace=n.namespace, args=n.args,
                   remaps=[list(r) for r in n.remaps], file=n.path, line=n.element.span.start.line + 1)
              for n in w.nodes if n.condition == TRUE and not n.is_test]
-    params: dict[str, str] = {}
+    params: dict = {}
+    sources: dict[str, str] = {}
+    text: dict[str, str] = {}
     for p in w.params:
         if p.condition == TRUE:
-            params[p.name] = p.value
+            params[p.name] = p.data
+            text[p.name] = p.value
+            if p.source in ("textfile", "binfile", "command"):
+                sources[p.name] = p.source
+            else:
+                sources.pop(p.name, None)
 
     def inc_tree(incs: list[IncludeFact]) -> list[dict]:
         return [dict(file=i.file, followed=i.followed, namespace=i.namespace, package=i.package,
@@ -444,4 +504,4 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
     for n in nodes:
         for f_, t_ in n["remaps"]:
             remaps.append(dict(node=n["name"], **{"from": f_, "to": t_}))
-    return LoadResult(nodes, params, remaps, inc_tree(w.includes), error, code, warnings)
+    return LoadResult(nodes, params, remaps, inc_tree(w.includes), error, code, warnings, sources, text)

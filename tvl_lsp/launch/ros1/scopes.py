@@ -8,7 +8,7 @@ import itertools
 import os
 from typing import Optional
 
-from ...base.formula import FALSE, Formula, conj, disj, neg, variables
+from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg, variables
 from ...base.text import Span
 from . import subst as S
 from ..model import Element
@@ -16,14 +16,14 @@ from ..xml import XAttr, XElement, value_span
 from .rules import (_satisfiable, ARG_ALREADY_SET, ARG_VALUE_AND_DEFAULT, CONDITION_NOT_ANALYSABLE, Cases,
                     DUPLICATE_ARG, ENV_NOT_SET, EVAL_ERROR, IF_AND_UNLESS, INVALID_CONDITION, MAX_CASES,
                     MISSING_ATTRIBUTE, PACKAGE_NOT_FOUND, POISON, SUBST_ARITY, SUBST_SYNTAX, SUBST_UNKNOWN,
-                    UNDEFINED_ARG, UNRESOLVED, UNSET_ARG, _bool_val, make_global_ns, merge, ns_join)
+                    UNDEFINED_ARG, UNRESOLVED, UNSET_ARG, W, _bool_val, make_global_ns, merge, ns_join, opaque)
 
 
 class Scope:
     """roslaunch's LoaderContext, with guarded values."""
 
     __slots__ = ("ns", "filename", "arg_names", "args", "include_args", "include_names", "pass_all",
-                 "params", "remaps", "env", "anon", "passed", "lookup_names")
+                 "params", "remaps", "env", "anon", "passed", "lookup_names", "params_link", "cmdline")
 
     def __init__(self, ns: str, filename: str):
         self.ns = make_global_ns(ns or "/") if ns != "~" else "~"
@@ -40,6 +40,13 @@ class Scope:
         self.anon: dict[str, str] = {}
         self.passed: dict[str, Formula] = {}
         self.lookup_names: Optional[dict[str, Formula]] = None  # declared names for $(arg) lookups
+        # roslaunch's context.params is shared with a child context when it is not empty (its
+        # LoaderContext does ``params or []``): (the parent's list, when it was not empty, the
+        # parent's own link) -- a ~param added here is added there too under that condition
+        self.params_link: Optional[tuple] = None
+        # when the command line's args reach this scope's arg values (the root file, its groups,
+        # includes with pass_all_args; never in the concrete loader, whose command line is known)
+        self.cmdline: Formula = TRUE
 
     def child(self, ns: Optional[str]) -> "Scope":
         if ns:
@@ -59,7 +66,9 @@ class Scope:
         c.include_args = self.include_args
         c.include_names = None
         c.pass_all = False
-        c.params = self.params
+        c.params = list(self.params)
+        c.params_link = (self.params, disj(e[2] for e in self.params), self.params_link) if self.params else None
+        c.cmdline = self.cmdline
         c.remaps = list(self.remaps)
         c.env = list(self.env)
         c.anon = dict(self.anon)
@@ -84,7 +93,17 @@ class ScopeRules:
         return self.resolve_text(a.value, a, el, sc, guard, where)
 
     def resolve_text(self, value: str, a: Optional[XAttr], el: Element, sc: Scope, guard: Formula,
-                     where: str = "") -> Cases:
+                     where: str = "", spans=None) -> Cases:
+        """Cases of ``value`` with its substitution args resolved (roslaunch's resolve_args).
+        ``spans(i, j)`` gives the source range of ``value[i:j]`` (default: inside attribute
+        ``a``, or the element)."""
+        out = self._resolve_text(value, a, el, sc, guard, where, spans)
+        if self.typing is not None and not self.flow:
+            self.typing.sink(out)
+        return out
+
+    def _resolve_text(self, value: str, a: Optional[XAttr], el: Element, sc: Scope, guard: Formula,
+                      where: str, spans) -> Cases:
         if guard == FALSE:
             return []
         if not value or "$" not in value:
@@ -92,10 +111,16 @@ class ScopeRules:
         idx = self.index[el.path]
 
         def sp(i: int, j: int) -> Span:
+            if spans is not None:
+                return spans(i, j)
             return value_span(a, idx, i, j) if a is not None else el.span
 
         whole = sp(0, len(value))
         if S.is_eval(value):
+            if self.typing is not None:
+                typed = self.typing.eval_uses(value, sc, guard)
+                if typed is not None:
+                    return typed
             return self.resolve_eval(value, a, el, sc, guard, whole, where)
         try:
             parts = S.collect(value)
@@ -235,8 +260,16 @@ class ScopeRules:
                 base = f"{os.path.basename(sc.filename)} requires the '{name}' arg to be set"
             self.fact(UNDEFINED_ARG, f"{base}: '{name}' is not declared in this scope", el, span,
                       conj([missing, neg(declared)]))
-            self.fact(UNSET_ARG, f"{base}: '{name}' is declared without value or default and nothing sets it",
-                      el, span, conj([missing, declared]))
+            # roslaunch fails either way; whether --check calls it an error depends on whether the
+            # command line can give the value: it reaches the root file and, through
+            # pass_all_args, the files it includes -- never an include without pass_all_args
+            unset = conj([missing, declared])
+            if unset != FALSE:
+                self.fact(UNSET_ARG, f"{base}: '{name}' is declared without value or default; give it on the "
+                          f"command line ({name}:=...)", el, span, conj([unset, sc.cmdline]), severity=W)
+                self.fact(UNSET_ARG, f"{base}: '{name}' is declared without value or default and nothing sets it "
+                          "(the including file does not pass it, and the command line reaches an included file "
+                          "only through pass_all_args)", el, span, conj([unset, neg(sc.cmdline)]))
         return out
 
     def resolve_eval(self, value: str, a, el: Element, sc: Scope, guard: Formula, span: Span,
@@ -251,7 +284,7 @@ class ScopeRules:
         if not ok:
             self.note(CONDITION_NOT_ANALYSABLE, f"tvl-lsp cannot translate '$(eval {expr.strip()})' into a "
                       "formula over args; it assumes the value may be anything", el, span)
-            return [(guard, value)]
+            return [(guard, opaque(value))]
         names_l = sorted(names)
         per: list[Cases] = []
         for n in names_l:
@@ -267,13 +300,16 @@ class ScopeRules:
         if total > MAX_CASES:
             self.note(CONDITION_NOT_ANALYSABLE, "too many combinations of arg values to analyse this $(eval)",
                       el, span)
-            return [(guard, value)]
+            return [(guard, opaque(value))]
         out: Cases = []
         for combo in itertools.product(*per) if per else [()]:
             cond = conj([guard] + [vc for vc, _ in combo])
             if cond == FALSE:
                 continue
             env_args = {n: v for n, (_, v) in zip(names_l, combo) if v is not None}
+            if any(UNRESOLVED in v for v in env_args.values()):
+                out.append((cond, opaque(value)))  # reads a value tvl-lsp does not know
+                continue
             try:
                 out.append((cond, S.run_eval(tree, env_args, self.env)))
             except S.EvalArgMissing as m:
@@ -281,7 +317,7 @@ class ScopeRules:
             except S.NotAnalysable:
                 self.note(CONDITION_NOT_ANALYSABLE, f"tvl-lsp cannot evaluate '$(eval {expr.strip()})'; it "
                           "assumes the value may be anything", el, span)
-                return [(guard, value)]
+                return [(guard, opaque(value))]
             except S.SubstError as e:
                 self.fact(EVAL_ERROR, str(e), el, span, cond)
         return merge(out)
@@ -291,10 +327,16 @@ class ScopeRules:
     def ifunless(self, x: XElement, el: Element, sc: Scope, guard: Formula, where: str = "") -> Formula:
         if guard == FALSE:
             return FALSE
-        ifc = self.resolve(x, el, "if", sc, guard, where)
-        unc = self.resolve(x, el, "unless", sc, guard, where)
+        self.flow += 1  # an if/unless value is not a string use of the args it reads (arg typing)
+        try:
+            ifc = self.resolve(x, el, "if", sc, guard, where)
+            unc = self.resolve(x, el, "unless", sc, guard, where)
+        finally:
+            self.flow -= 1
         if ifc is None and unc is None:
             return guard
+        if self.typing is not None and (ifc is None or unc is None):
+            return self.typing.condition(ifc if ifc is not None else unc, "if" if ifc is not None else "unless")
         if ifc is not None and unc is not None:
             self.fact(IF_AND_UNLESS, "cannot set both 'if' and 'unless' on the same tag", el,
                       el.tag_span, conj([disj(c for c, _ in ifc), disj(c for c, _ in unc)]))
@@ -328,8 +370,12 @@ class ScopeRules:
             self.fact(MISSING_ATTRIBUTE, "Invalid <arg> tag: 'name'", el, el.tag_span, cond)
             return
         names = self.resolve(x, el, "name", sc, cond, "arg")
-        value = self.resolve(x, el, "value", sc, cond, "arg")
-        default = self.resolve(x, el, "default", sc, cond, "arg")
+        self.flow += 1  # an arg's value passes the args it reads on (arg typing follows it)
+        try:
+            value = self.resolve(x, el, "value", sc, cond, "arg")
+            default = self.resolve(x, el, "default", sc, cond, "arg")
+        finally:
+            self.flow -= 1
         self.resolve(x, el, "doc", sc, cond, "arg")
         if value is not None and default is not None:
             self.fact(ARG_VALUE_AND_DEFAULT, "<arg> tag must have one and only one of value/default.", el,

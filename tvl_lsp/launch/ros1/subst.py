@@ -127,7 +127,7 @@ def eval_names(tree: ast.Expression) -> tuple[set[str], bool]:
         elif isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load):
             if n.id not in _RESERVED:
                 names.add(n.id)
-        elif isinstance(n, (ast.Attribute, ast.Subscript, ast.Lambda, ast.ListComp, ast.DictComp,
+        elif isinstance(n, (ast.Attribute, ast.Lambda, ast.ListComp, ast.DictComp,
                             ast.SetComp, ast.GeneratorExp, ast.NamedExpr, ast.Starred)):
             ok = False
     return names, ok
@@ -197,6 +197,17 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
                     return False
                 left = r
             return True
+        if isinstance(n, ast.Subscript):  # indexing and slicing ('fanuc_' + arg('ik')[0:3])
+            v = ev(n.value)
+            if not isinstance(v, (str, list, tuple, dict)):
+                raise SubstError(f"$(eval) failed: TypeError: '{type(v).__name__}' object is not subscriptable")
+            sl = n.slice
+            if isinstance(sl, ast.Slice):
+                parts = [ev(x) if x is not None else None for x in (sl.lower, sl.upper, sl.step)]
+                if any(p is not None and not isinstance(p, int) for p in parts) or parts[2] == 0:
+                    raise NotAnalysable()
+                return v[slice(*parts)]
+            return v[ev(sl)]
         if isinstance(n, ast.IfExp):
             return ev(n.body) if ev(n.test) else ev(n.orelse)
         if isinstance(n, (ast.Tuple, ast.List)):
