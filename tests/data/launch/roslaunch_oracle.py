@@ -9,6 +9,9 @@ prints a JSON list of ``{"ok": bool, "nodes": [resolved names], "params": [names
 ``{"__binary__": length}``, dates -> ``{"__date__": iso}``, other objects -> ``{"__repr__": repr}``;
 non-finite floats as ``{"__float__": "nan" | "inf" | "-inf"}``.
 
+With ``--serve`` it reads one JSON list of jobs per line and answers each with one line (a
+long-lived oracle for property tests).
+
 A job with ``"commands": "check"`` does not run the programs of ``<param command=...>``: it checks
 that the program exists (as roslaunch's ``no such command`` error does) and sets the parameter to
 ``"$(command ...)"``; used on third-party repositories, whose commands (xacro, scripts) are not
@@ -100,6 +103,13 @@ def run(job):
 
 
 def main():
+    if "--serve" in sys.argv:
+        # one JSON list of jobs per input line, one JSON list of results per output line
+        for line in sys.stdin:
+            if line.strip():
+                sys.stdout.write(json.dumps([run(j) for j in json.loads(line)]) + "\n")
+                sys.stdout.flush()
+        return
     jobs = json.load(sys.stdin)
     print(json.dumps([run(j) for j in jobs]))
 

@@ -127,15 +127,13 @@ class ScopeRules:
         except S.SubstError as e:
             self.fact(SUBST_SYNTAX, str(e), el, whole, guard)
             return []
-        for inner, i, j in parts:
+        cases: Cases = [(guard, value)]
+        for inner, i, j in parts:  # in order, as roslaunch: the first failure stops it
             words = [w for w in inner.split(" ") if w]
             if not words or words[0] not in S.VALID:
                 self.fact(SUBST_UNKNOWN, f"Unknown substitution command [{inner}]. Valid commands are "
-                          f"{list(S.VALID)}", el, sp(i, j), guard)
+                          f"{list(S.VALID)}", el, sp(i, j), disj(c for c, _ in cases))
                 return []
-        cases: Cases = [(guard, value)]
-        for inner, i, j in parts:
-            words = [w for w in inner.split(" ") if w]
             cmd, args = words[0], words[1:]
             if cmd == "find":
                 continue
@@ -311,7 +309,7 @@ class ScopeRules:
                 out.append((cond, opaque(value)))  # reads a value tvl-lsp does not know
                 continue
             try:
-                out.append((cond, S.run_eval(tree, env_args, self.env)))
+                out.append((cond, S.run_eval(tree, env_args, self.env, self.eval_find)))
             except S.EvalArgMissing as m:
                 self.lookup_arg(m.name, el, sc, cond, span, where)
             except S.NotAnalysable:
@@ -321,6 +319,17 @@ class ScopeRules:
             except S.SubstError as e:
                 self.fact(EVAL_ERROR, str(e), el, span, cond)
         return merge(out)
+
+    def eval_find(self, pkg: str) -> str:
+        """``find('pkg')`` inside ``$(eval)``: the package's folder (roslaunch raises
+        ResourceNotFound for a package it cannot find; outside the workspace, tvl-lsp cannot
+        tell: not analysable)."""
+        path = self.packages.get(pkg)
+        if path is None:
+            if self.concrete:
+                raise S.SubstError(f"ResourceNotFound: {pkg}")
+            raise S.NotAnalysable()
+        return path
 
     # ---------------------------------------------------------------- conditions
 

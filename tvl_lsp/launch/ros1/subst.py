@@ -122,20 +122,32 @@ def eval_names(tree: ast.Expression) -> tuple[set[str], bool]:
                     names.add(n.args[0].value)
                 else:
                     ok = False
-            elif not (isinstance(f, ast.Name) and f.id in _RESERVED and f.id not in ("find", "anon", "dirname")):
+            elif isinstance(f, ast.Attribute) and f.attr in STR_METHODS:
+                pass  # a string method ('x'.startswith(...)); checked when evaluated
+            elif not (isinstance(f, ast.Name) and f.id in _RESERVED and f.id not in ("anon", "dirname")):
                 ok = False
         elif isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load):
             if n.id not in _RESERVED:
                 names.add(n.id)
+        elif isinstance(n, ast.Attribute) and n.attr in STR_METHODS:
+            pass
         elif isinstance(n, (ast.Attribute, ast.Lambda, ast.ListComp, ast.DictComp,
                             ast.SetComp, ast.GeneratorExp, ast.NamedExpr, ast.Starred)):
             ok = False
     return names, ok
 
 
-def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, str]) -> str:
+# str methods an $(eval) may call (pure, and bounded in what they build)
+STR_METHODS = frozenset({"startswith", "endswith", "lower", "upper", "strip", "lstrip", "rstrip", "split",
+                         "rsplit", "find", "rfind", "count", "isdigit", "isalpha", "isalnum", "islower",
+                         "isupper", "capitalize", "title", "replace", "index", "rindex"})
+
+
+def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, str],
+             find: Callable[[str], str] | None = None) -> str:
     """Evaluate like roslaunch's ``_eval`` (result as ``str``). Raises EvalArgMissing,
-    NotAnalysable, or SubstError (a runtime error roslaunch would raise)."""
+    NotAnalysable, or SubstError (a runtime error roslaunch would raise).  ``find(pkg)``:
+    the package's folder (``find('pkg')`` in the expression; without it, not analysable)."""
 
     def lookup(name: str):
         if name in _CONSTS:
@@ -213,11 +225,24 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
         if isinstance(n, (ast.Tuple, ast.List)):
             vals = [ev(x) for x in n.elts]
             return tuple(vals) if isinstance(n, ast.Tuple) else vals
+        if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute):
+            obj = ev(n.func.value)
+            if not isinstance(obj, str) or n.func.attr not in STR_METHODS or n.keywords:
+                raise NotAnalysable()
+            vals = [ev(x) for x in n.args]
+            if n.func.attr == "replace" and len(vals) >= 2 and isinstance(vals[1], str) and \
+                    len(obj) * max(len(vals[1]), 1) > 100_000:
+                raise NotAnalysable()
+            return getattr(obj, n.func.attr)(*vals)
         if isinstance(n, ast.Call):
             if not isinstance(n.func, ast.Name) or n.keywords:
                 raise NotAnalysable()
             fname = n.func.id
             vals = [ev(x) for x in n.args]
+            if fname == "find":
+                if find is None or len(vals) != 1 or not isinstance(vals[0], str):
+                    raise NotAnalysable()
+                return find(vals[0])
             if fname == "arg":
                 name = vals[0]
                 if name not in args:
