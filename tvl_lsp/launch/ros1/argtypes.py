@@ -17,7 +17,8 @@ a value holding a marker ends up:
   **string** use.
 
 Values an ``<arg>`` or an ``<include>``'s ``<arg>`` passes on are not uses: they are followed.
-An eval's result carries no use of its own (its inputs were classified in the expression).
+An eval's result carries no use of its own (its inputs were classified in the expression).  An
+``<include>`` whose file name holds a marked arg is followed with the arg's default.
 """
 
 from __future__ import annotations
@@ -45,8 +46,16 @@ def marker(name: str) -> str:
 class ArgTyping:
     """The uses of the marked args seen during one typing walk."""
 
-    def __init__(self, names: Iterable[str]):
+    def __init__(self, names: Iterable[str], defaults: Optional[dict[str, str]] = None):
         self.uses: dict[str, set[str]] = {n: set() for n in names}
+        self.defaults = dict(defaults or {})
+
+    def concrete(self, value: str) -> str:
+        """``value`` with each arg marker replaced by the arg's default (to find the file an
+        ``<include>`` names with a marked arg: the walk follows it with the default)."""
+        if ARG_MARK not in value:
+            return value
+        return _ARG_RE.sub(lambda m: self.defaults.get(m.group(1), m.group(0)), value)
 
     def _add(self, name: str, kind: str) -> None:
         if name in self.uses:

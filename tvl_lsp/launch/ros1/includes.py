@@ -31,6 +31,8 @@ class IncludeRules:
             self.fact(MISSING_ATTRIBUTE, "<include> tag is missing required attribute: 'file'", el, el.tag_span, cond)
             return
         files = self.resolve(x, el, "file", sc, cond) or []
+        if self.typing is not None:  # arg typing: follow the file the args' defaults name
+            files = [(c, self.typing.concrete(f)) for c, f in files]
         pa = self.resolve(x, el, "pass_all_args", sc, cond)
         pass_cases = [(cond, False)]
         if pa is not None:
@@ -93,6 +95,10 @@ class IncludeRules:
 
         inc = IncludeFact(el, shown(fname), c, False, namespace=child.ns)
         self.includes.append(inc)
+        if self.typing is not None and not self._followable(fname):
+            # arg typing: how a file that is not followed uses the args it gets is unknown --
+            # so they are not booleans (true/false could be meaningless there)
+            self.typing.sink([cv for vals in child.args.values() for cv in vals])
         if UNRESOLVED in fname:
             el.unresolved = True
             m = re.search(UNRESOLVED + "([^" + UNRESOLVED + "]*)" + UNRESOLVED, fname)
@@ -150,6 +156,16 @@ class IncludeRules:
             for name, pc in passed.items():
                 self.fact(UNUSED_INCLUDE_ARG, f"unused args [{name}] for include of [{fname}]", el,
                           self.arg_child_span(x, el, emap, name), conj([pc, neg(child.arg_names.get(name, FALSE))]))
+
+    def _followable(self, fname: str) -> bool:
+        """Whether include_one follows ``fname`` (a valid launch file in reach)."""
+        if UNRESOLVED in fname or not os.path.isabs(fname):
+            return False
+        path = os.path.abspath(fname)
+        if path in self.stack or len(self.stack) > MAX_INCLUDE_DEPTH:
+            return False
+        u = self.unit(path)
+        return u is not None and u.launch is not None and not u.error
 
     def arg_child_span(self, x: XElement, el: Element, emap, name: str) -> Span:
         for cx in x.children:

@@ -318,7 +318,11 @@ def arg_uses(text: str, path: str, names: Iterable[str], workspace_root: Optiona
     """How the load uses the values of the top-level args ``names`` (see :mod:`.argtypes`):
     a walk of the file and its includes with each arg's value an opaque marker."""
     names = list(names)
-    typing = ArgTyping(names)
+    doc = doc if doc is not None else parse_xml(text, path)
+    launch = doc.root if doc.root is not None and doc.root.tag == "launch" else None
+    defaults = {x.attrs["name"].value: x.attrs["default"].value for x in _top_args(launch)
+                if "name" in x.attrs and "default" in x.attrs and "$" not in x.attrs["default"].value}
+    typing = ArgTyping(names, defaults)
     if not names:
         return typing
     if workspace_root is None and packages is None and os.path.isabs(path):
