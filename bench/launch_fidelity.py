@@ -22,7 +22,8 @@ and once ``tvl-lsp --check WORKSPACE`` (check_paths, as the CLI).  It reports:
   witness, loads the file; an error without a witness (it holds whatever the args) where
   roslaunch loads the file under one of the assignments;
 - files that roslaunch rejects with their defaults (not for a package missing from the
-  workspace) where ``--check`` says nothing (no error, no warning).
+  workspace, nor one roslaunch finds outside it, under /usr or /opt) where ``--check`` says
+  nothing (no error, no warning).
 
 Assignments per file: the defaults (no args); every top-level arg without a default set to
 ``true`` and every boolean default flipped; every arg without a default set to ``false``; and
@@ -339,6 +340,8 @@ def main() -> int:
         for f, r in default_result.items():
             if r["ok"] or r["error"] == "ResourceNotFound":
                 continue
+            if re.search(r"(?<![\w/])/(usr|opt)/", r["message"]):
+                continue  # a package outside the workspace found by roslaunch on this machine
             if f not in check_warn_files:
                 findings["check_silent"].append(dict(file=os.path.relpath(f, ws), roslaunch=r["message"][:300],
                                                      checked=f in check_files))
