@@ -310,3 +310,22 @@ def test_random_generic_launch_files_against_roslaunch(tmp_path):
         else:
             assert lr.error is not None and sym_errs, where
     assert 0 < n_ok < len(jobs)  # both outcomes are exercised
+
+
+# ---------------------------------------------------------------- the command line as roslaunch reads it
+
+@pytest.mark.parametrize("args", [
+    {"3d_sensor": "asus", "_rate": "5", "frame": " odom "},   # not a ROS name; a private param; stripped
+    {"frame": ""},                                           # an empty value sets nothing
+    {"frame": "a:=b", "__ns_like": "1"},                     # ':=' twice: ignored; an undeclared arg
+])
+def test_the_command_line_is_read_as_roslaunch_reads_it(args):
+    """roslaunch takes name:=value as a ROS remapping (rosgraph.names.load_mappings): it ignores
+    some of them; tvl-lsp launch loads the same parameters and says which it ignored."""
+    path = str(OWN_WS / "delta" / "launch" / "cmdline_names.launch")
+    (o,) = _oracle([dict(file=path, args=args, package_path=str(OWN_WS))])
+    assert o["ok"]
+    lr = load_launch(path, args, packages=find_packages(str(OWN_WS)))
+    assert lr.error is None and param_diff(lr, o["values"]) == []
+    ignored = [k for k in args if k in ("3d_sensor", "_rate") or args[k] in ("", "a:=b")]
+    assert len([w for w in lr.warnings if "roslaunch ignores" in w]) == len(ignored)

@@ -252,3 +252,35 @@ def test_check_on_a_folder_finds_rostest_files():
     found = discover_files([str(GAMMA)])
     assert str(GAMMA / "test" / "params.test") in found.launches
     assert len([f for f in found.launches if f.endswith(".launch.xml")]) == 2
+
+
+# ---------------------------------------------------------------- the command line as roslaunch reads it
+
+def test_an_arg_the_command_line_cannot_set_is_not_free_and_its_use_is_an_error(tmp_path):
+    # roslaunch ignores 3d_sensor:=... (not a legal ROS name): the arg is never set
+    main = '<launch><arg name="3d_sensor"/><param name="s" value="$(arg 3d_sensor)"/></launch>'
+    diags = _check(tmp_path, {"main.launch": main})
+    (d,) = [d for d in diags if d.code == "unset-arg"]
+    assert d.severity == Severity.ERROR and "3d_sensor:=" in d.message
+    assert free_top_args(main, str(tmp_path / "main.launch")) == []
+    lr = load_launch(str(tmp_path / "main.launch"), {"3d_sensor": "kinect"}, packages={})
+    assert lr.error is not None and any("roslaunch ignores '3d_sensor:=kinect'" in w for w in lr.warnings)
+
+
+def test_the_uses_of_an_arg_with_a_default_are_the_uses_of_the_args_its_default_reads(tmp_path):
+    # base only reaches a parameter through model's default: it is a string, not a boolean
+    main = ('<launch><arg name="base"/><arg name="model" default="$(arg base).urdf"/>'
+            '<param name="m" value="$(arg model)"/></launch>')
+    assert free_top_args(main, str(tmp_path / "main.launch")) == []
+    main = ('<launch><arg name="on"/><arg name="cam" default="$(arg on)"/>'
+            '<node pkg="p" type="t" name="n" if="$(arg cam)"/></launch>')
+    assert free_top_args(main, str(tmp_path / "main.launch")) == ["on", "cam"]
+
+
+def test_a_relative_include_is_a_warning(tmp_path):
+    # roslaunch opens a relative include file from the folder it is started in
+    text = '<launch>\n  <include file="launch/part.launch"/>\n</launch>\n'
+    diags = _check(tmp_path, {"main.launch": text, "launch/part.launch": "<launch/>"})
+    (d,) = [d for d in diags if d.code == "include-not-found"]
+    assert d.severity == Severity.WARNING and "relative path" in d.message
+    assert span_text(text, d.span) == "launch/part.launch"

@@ -87,6 +87,7 @@ def run(job):
     argv = ["roslaunch", job["file"]] + ["%s:=%s" % kv for kv in sorted(job.get("args", {}).items())]
     cfg = ROSLaunchConfig()
     loader = XmlLoader()
+    loader.ignore_unset_args = False  # as roslaunch.config.load_config_default sets it
     out, err = sys.stdout, sys.stderr
     sys.stdout = io.StringIO()
     sys.stderr = io.StringIO()

@@ -46,9 +46,15 @@ def marker(name: str) -> str:
 class ArgTyping:
     """The uses of the marked args seen during one typing walk."""
 
-    def __init__(self, names: Iterable[str], defaults: Optional[dict[str, str]] = None):
+    def __init__(self, names: Iterable[str], defaults: Optional[dict[str, str]] = None,
+                 derived: Optional[dict[str, set[str]]] = None):
         self.uses: dict[str, set[str]] = {n: set() for n in names}
         self.defaults = dict(defaults or {})
+        # derived[x]: the marked args the default of the marked arg x reads.  The walk gives x
+        # its marker (the command line's value wins over the default), so the default is never
+        # resolved: x's uses are theirs too (<arg name="urdf" default="...$(arg base).xacro"/>
+        # used in a command makes 'base' a string)
+        self.derived = {x: set(ys) for x, ys in (derived or {}).items()}
 
     def concrete(self, value: str) -> str:
         """``value`` with each arg marker replaced by the arg's default (to find the file an
@@ -61,11 +67,23 @@ class ArgTyping:
         if name in self.uses:
             self.uses[name].add(kind)
 
+    def _closed(self) -> dict[str, set[str]]:
+        uses = {n: set(k) for n, k in self.uses.items()}
+        changed = True
+        while changed:
+            changed = False
+            for x, ys in self.derived.items():
+                for y in ys:
+                    if y in uses and x in uses and not uses[x] <= uses[y]:
+                        uses[y] |= uses[x]
+                        changed = True
+        return uses
+
     def strings(self) -> set[str]:
-        return {n for n, k in self.uses.items() if STRING in k}
+        return {n for n, k in self._closed().items() if STRING in k}
 
     def used(self) -> set[str]:
-        return {n for n, k in self.uses.items() if k}
+        return {n for n, k in self._closed().items() if k}
 
     # ------------------------------------------------------------ hooks called by the walker
 

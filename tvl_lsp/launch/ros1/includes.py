@@ -108,6 +108,10 @@ class IncludeRules:
         in_ws = any(path.startswith(p.rstrip("/") + "/") for p in self.packages.values())
         if not os.path.isabs(fname) and not self.concrete:
             el.unresolved = True  # relative to roslaunch's working directory: unknown
+            self.fact(INCLUDE_NOT_FOUND, f"'{shown(fname)}' is a relative path: roslaunch opens it relative to the "
+                      "folder it is started in, not to this file, so it loads only when started from the right "
+                      "place (name it from its package, $(find pkg)/..., or from this file, $(dirname)/...)",
+                      el, self.aspan(el, "file"), c, severity=W)
             return
         if path in self.stack:
             self.fact(INCLUDE_CYCLE, f"include cycle: {' -> '.join(os.path.basename(p) for p in self.stack)} -> "

@@ -33,7 +33,7 @@ from ..model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnaly
                     ParamFact, Subst)
 from ..packages import find_packages, guess_workspace_root
 from ..xml import XElement, XmlDoc, parse_xml, value_span
-from .rules import _satisfiable, BUDGET, Cases, E, I, MAX_VISITS, MAX_WALK_DEPTH, NO_LAUNCH_ROOT, W
+from .rules import _satisfiable, BUDGET, Cases, E, I, cmdline_arg, cmdline_settable, MAX_VISITS, MAX_WALK_DEPTH, NO_LAUNCH_ROOT, W
 from .argtypes import ArgTyping, marker
 from .includes import IncludeRules
 from .params import ParamRules
@@ -301,15 +301,21 @@ def _top_args(doc_root: Optional[XElement]) -> list[XElement]:
     return [x for x in doc_root.children if x.tag == "arg"]
 
 
-def _candidates(launch: Optional[XElement], with_defaults: bool) -> list[str]:
+def _candidates(launch: Optional[XElement], with_defaults: bool, settable: bool = True) -> list[str]:
     """Top-level args that may be free: no ``value`` (and no ``default`` unless
-    ``with_defaults``), a plain name."""
+    ``with_defaults``), a plain name (that roslaunch's command line can set, if ``settable``:
+    roslaunch ignores ``3d_sensor:=...``)."""
     out = []
     for x in _top_args(launch):
         a = x.attrs
-        if "name" in a and "value" not in a and (with_defaults or "default" not in a) and "$" not in a["name"].value:
+        if "name" in a and "value" not in a and (with_defaults or "default" not in a) and "$" not in a["name"].value \
+                and (not settable or cmdline_settable(a["name"].value)):
             out.append(a["name"].value)
     return list(dict.fromkeys(out))
+
+
+# the args a default reads: $(arg y), and arg('y') inside $(eval)
+_DEFAULT_READS = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)|arg\(\s*['\"]([^'\"]+)['\"]\s*\)")
 
 
 def arg_uses(text: str, path: str, names: Iterable[str], workspace_root: Optional[str] = None, read_file=None, *,
@@ -322,7 +328,13 @@ def arg_uses(text: str, path: str, names: Iterable[str], workspace_root: Optiona
     launch = doc.root if doc.root is not None and doc.root.tag == "launch" else None
     defaults = {x.attrs["name"].value: x.attrs["default"].value for x in _top_args(launch)
                 if "name" in x.attrs and "default" in x.attrs and "$" not in x.attrs["default"].value}
-    typing = ArgTyping(names, defaults)
+    derived = {}
+    for x in _top_args(launch):
+        if "name" in x.attrs and "default" in x.attrs and x.attrs["name"].value in names:
+            reads = {a or b for a, b in _DEFAULT_READS.findall(x.attrs["default"].value)} & set(names)
+            if reads:
+                derived[x.attrs["name"].value] = reads
+    typing = ArgTyping(names, defaults, derived)
     if not names:
         return typing
     if workspace_root is None and packages is None and os.path.isabs(path):
@@ -350,7 +362,10 @@ def free_args(text: str, path: str, workspace_root: Optional[str] = None, read_f
         doc = parse_xml(text, path)
     launch = doc.root if doc.root is not None and doc.root.tag == "launch" else None
     names = _candidates(launch, with_defaults)
-    typing = arg_uses(text, path, names, workspace_root, read_file, env=env, packages=packages, doc=doc)
+    # the args the command line cannot set are walked with markers too: their uses pass the
+    # values of the others on (a default built from several args)
+    typing = arg_uses(text, path, _candidates(launch, with_defaults, settable=False), workspace_root, read_file,
+                      env=env, packages=packages, doc=doc)
     strings = typing.strings()
     return [n for n in names if n not in strings]
 
@@ -470,7 +485,15 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
         text = w.read(path)
         if text is None:
             return LoadResult([], {}, [], [], f"[Errno 2] No such file or directory: '{path}'", "file-not-found")
-    root_args = {k: [(TRUE, v)] for k, v in args.items()}
+    # roslaunch takes the command line as ROS remappings: some name:=value pairs never reach it
+    root_args: dict[str, Cases] = {}
+    ignored: list[str] = []
+    for k, v in args.items():
+        kv, why = cmdline_arg(k, v)
+        if kv is None:
+            ignored.append(why)
+        else:
+            root_args[kv[0]] = [(TRUE, kv[1])]
     w.run_root(path, text, root_args)
     error = None
     code = None
@@ -478,7 +501,7 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
         if d.severity == E:
             error, code = d.message, d.code
             break
-    warnings = [d.message for d in w.diagnostics if d.severity != E]
+    warnings = ignored + [d.message for d in w.diagnostics if d.severity != E]
     if error is None:
         for f in w.facts:
             if f.condition == TRUE and f.severity == E:

@@ -136,6 +136,36 @@ OPAQUE = "\x05"  # after UNRESOLVED: a value tvl-lsp cannot compute (an $(eval) 
 _MARKED = re.compile(UNRESOLVED + r"([^" + UNRESOLVED + r"]*)" + UNRESOLVED)
 
 
+# rosgraph.names.REMAP_PATTERN: roslaunch reads the command line as ROS remappings
+# (rosgraph.names.load_mappings), so it takes ``name:=value`` only for such names
+_REMAP_PATTERN = re.compile(r"^([~/A-Za-z]|_|__)[\w/]*:=.*")
+
+
+def cmdline_arg(name: str, value: str) -> tuple[Optional[tuple[str, str]], Optional[str]]:
+    """How roslaunch reads ``name:=value`` from its command line (``load_sysargs_into_context``):
+    ``((name, value), None)`` stripped as it stores it, or ``(None, why it is ignored)``."""
+    text = f"{name}:={value}"
+    m = _REMAP_PATTERN.match(text)
+    if m is None or m.group(0) != text:
+        return None, (f"roslaunch ignores '{text}' on its command line: an arg given there must be a legal "
+                      "ROS name (a letter, '_', '/' or '~' first, then letters, digits, '_' and '/')")
+    parts = text.split(":=")
+    if len(parts) != 2:
+        return None, f"roslaunch ignores '{text}' on its command line (Invalid remapping argument: ':=' twice)"
+    src, dst = parts[0].strip(), parts[1].strip()
+    if not src or not dst:
+        return None, f"roslaunch ignores '{text}' on its command line: the value is empty"
+    if len(src) > 1 and src[0] == "_" and src[1] != "_":
+        return None, (f"roslaunch ignores '{text}' on its command line: '_{src[1:]}:=' sets the private "
+                      "parameter of a node, not an arg")
+    return (src, dst), None
+
+
+def cmdline_settable(name: str) -> bool:
+    """Whether roslaunch's command line can give the arg ``name`` a value."""
+    return cmdline_arg(name, "x")[0] is not None
+
+
 def opaque(value: str) -> str:
     """A value tvl-lsp cannot compute, e.g. ``$(eval ...)`` beyond its interpreter: it is
     treated like the path of a package outside the workspace (no check looks into it) and

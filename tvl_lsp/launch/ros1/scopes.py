@@ -16,7 +16,7 @@ from ..xml import XAttr, XElement, value_span
 from .rules import (_satisfiable, ARG_ALREADY_SET, ARG_VALUE_AND_DEFAULT, CONDITION_NOT_ANALYSABLE, Cases,
                     DUPLICATE_ARG, ENV_NOT_SET, EVAL_ERROR, IF_AND_UNLESS, INVALID_CONDITION, MAX_CASES,
                     MISSING_ATTRIBUTE, PACKAGE_NOT_FOUND, POISON, SUBST_ARITY, SUBST_SYNTAX, SUBST_UNKNOWN,
-                    UNDEFINED_ARG, UNRESOLVED, UNSET_ARG, W, _bool_val, make_global_ns, merge, ns_join, opaque)
+                    UNDEFINED_ARG, UNRESOLVED, UNSET_ARG, W, _bool_val, cmdline_settable, make_global_ns, merge, ns_join, opaque)
 
 
 class Scope:
@@ -262,7 +262,17 @@ class ScopeRules:
             # command line can give the value: it reaches the root file and, through
             # pass_all_args, the files it includes -- never an include without pass_all_args
             unset = conj([missing, declared])
-            if unset != FALSE:
+            if unset != FALSE and not cmdline_settable(name):
+                # roslaunch reads its command line as ROS remappings: it ignores '3d_sensor:=...'
+                self.fact(UNSET_ARG, f"{base}: '{name}' is declared without value or default, and roslaunch's "
+                          f"command line cannot give it one (it ignores '{name}:=...': an arg given there must "
+                          "start with a letter, '_', '/' or '~' and hold only letters, digits, '_' and '/')",
+                          el, span, unset)
+            elif unset != FALSE and self.concrete and self.stack and os.path.abspath(sc.filename) == self.stack[0]:
+                # tvl-lsp launch FILE name:=value ...: the root file's command line is known
+                self.fact(UNSET_ARG, f"{base}: '{name}' is declared without value or default and the command "
+                          f"line does not give it ({name}:=...)", el, span, unset)
+            elif unset != FALSE:
                 self.fact(UNSET_ARG, f"{base}: '{name}' is declared without value or default; give it on the "
                           f"command line ({name}:=...)", el, span, conj([unset, sc.cmdline]), severity=W)
                 self.fact(UNSET_ARG, f"{base}: '{name}' is declared without value or default and nothing sets it "
