@@ -284,3 +284,11 @@ def test_a_relative_include_is_a_warning(tmp_path):
     (d,) = [d for d in diags if d.code == "include-not-found"]
     assert d.severity == Severity.WARNING and "relative path" in d.message
     assert span_text(text, d.span) == "launch/part.launch"
+
+
+def test_a_program_missing_from_a_package_of_the_workspace_is_an_error():
+    # roslaunch cannot run $(find delta)/scripts/no_such_generator.py: the package is in the
+    # workspace, the file is not in it
+    diags = check_paths([str(WS / "src" / "delta" / "launch" / "missing_script.launch")], jobs=1)
+    (d,) = [d for d in diags if d.code == "command-not-found"]
+    assert d.severity == Severity.ERROR and d.witness == {"with_model": True}

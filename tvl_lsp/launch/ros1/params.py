@@ -178,7 +178,8 @@ class ParamRules:
         prog = words[0]
         if "/" in prog:
             found = os.path.exists(prog)
-            if not found and not self.concrete:
+            if not found and not self.concrete and not any(
+                    prog.startswith(folder.rstrip("/") + "/") for folder in self.packages.values()):
                 return True  # a path we cannot check statically (e.g. an install space)
         else:
             found = shutil.which(prog, path=self.env.get("PATH", os.defpath)) is not None
