@@ -329,3 +329,34 @@ def test_the_command_line_is_read_as_roslaunch_reads_it(args):
     assert lr.error is None and param_diff(lr, o["values"]) == []
     ignored = [k for k in args if k in ("3d_sensor", "_rate") or args[k] in ("", "a:=b")]
     assert len([w for w in lr.warnings if "roslaunch ignores" in w]) == len(ignored)
+
+
+# ---------------------------------------------------------------- $(find) as rospkg crawls
+
+def test_find_crawls_the_workspace_as_rospkg_does(tmp_path):
+    """Metapackages are not found, rosbuild manifest.xml packages are, CATKIN_IGNORE ends a
+    branch (COLCON_IGNORE does not), symbolic links are followed."""
+    src = tmp_path / "ws" / "src"
+    xml = '<package format="2"><name>{}</name><version>0.0.0</version>{}</package>'
+    for rel, name, extra in [("meta", "meta", "<export><metapackage/></export>"), ("plain", "plain", ""),
+                             ("skipped/inner", "inner", ""), ("colcon_only", "colcon_only", ""),
+                             ("../elsewhere/linked_pkg", "linked", "")]:
+        (src / rel).mkdir(parents=True)
+        (src / rel / "package.xml").write_text(xml.format(name, extra))
+    (src / "skipped" / "CATKIN_IGNORE").write_text("")
+    (src / "colcon_only" / "COLCON_IGNORE").write_text("")
+    (src / "legacy").mkdir()
+    (src / "legacy" / "manifest.xml").write_text("<package/>")
+    (src / "link").symlink_to(tmp_path / "ws" / "elsewhere")
+    jobs = []
+    for name in ("meta", "plain", "inner", "colcon_only", "legacy", "linked"):
+        f = src / "plain" / f"find_{name}.launch"
+        f.write_text(f'<launch><param name="where" value="$(find {name})"/></launch>')
+        jobs.append(dict(file=str(f), args={}, package_path=str(src)))
+    pk = find_packages(str(src))
+    for job, o in zip(jobs, _oracle(jobs)):
+        lr = load_launch(job["file"], {}, packages=pk)
+        assert (lr.error is None) == o["ok"], (job["file"], o, lr.error)
+        if o["ok"]:
+            assert param_diff(lr, o["values"]) == [], job["file"]
+    assert set(pk) == {"plain", "colcon_only", "legacy", "linked"}

@@ -147,7 +147,9 @@ class ErrorFact:
     span: Span
     condition: Formula
     related: list[tuple[str, Span, str]] = field(default_factory=list)
-    arg: Optional[str] = None  # the arg a fact is about, where that matters (unset-arg of a free arg)
+    # the arg a fact is about, where that matters (unset-arg of a free arg); keyword-only, so that
+    # subclasses (ROS 2's LaunchFact) keep their positional fields
+    arg: Optional[str] = field(default=None, kw_only=True)
 
 
 @dataclass

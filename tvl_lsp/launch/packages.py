@@ -11,26 +11,54 @@ _SKIP = {".git", "build", "devel", "install", "node_modules", ".venv", "__pycach
 MAX_DIRS = 20000
 
 
+_METAPACKAGE = re.compile(r"<export\b[^>]*>(?:(?!</export>).)*?<metapackage\b", re.S)
+_COMMENT = re.compile(r"<!--.*?-->", re.S)
+
+
 def _scan(root: str) -> dict[str, str]:
+    """rospkg's crawl (``rospkg.rospack.list_by_path``, what ``$(find pkg)`` uses): symbolic
+    links followed, ``CATKIN_IGNORE`` and ``rospack_nosubdirs`` end a branch, a folder with a
+    ``package.xml`` is a package (a metapackage is none: ``$(find)`` cannot find it) and so is
+    one with a rosbuild ``manifest.xml`` (named after the folder); packages do not nest; of
+    two packages with one name the first crawled wins (rospkg walks folders in the file
+    system's order, and so does this)."""
     out: dict[str, str] = {}
     count = 0
-    for dirpath, dirnames, filenames in os.walk(root):
+    seen: set[str] = set()
+    for dirpath, dirnames, filenames in os.walk(root, followlinks=True):
         count += 1
         if count > MAX_DIRS:
             break
-        dirnames[:] = sorted(d for d in dirnames if d not in _SKIP and not d.startswith("."))
-        if "CATKIN_IGNORE" in filenames or "COLCON_IGNORE" in filenames:
+        try:
+            real = os.path.realpath(dirpath)
+        except OSError:
+            real = dirpath
+        if real in seen:  # a link back up the tree
+            dirnames[:] = []
+            continue
+        seen.add(real)
+        dirnames[:] = [d for d in dirnames if d not in _SKIP and not d.startswith(".")]
+        if "CATKIN_IGNORE" in filenames:
             dirnames[:] = []
             continue
         if "package.xml" in filenames:
+            dirnames[:] = []  # packages do not nest
             try:
                 with open(os.path.join(dirpath, "package.xml"), encoding="utf-8", errors="replace") as f:
-                    m = _NAME.search(f.read(200_000))
+                    text = _COMMENT.sub("", f.read(200_000))
             except OSError:
-                m = None
-            name = m.group(1) if m else os.path.basename(dirpath)
-            out.setdefault(name, dirpath)
-            dirnames[:] = []  # packages do not nest
+                continue
+            if _METAPACKAGE.search(text):
+                continue
+            m = _NAME.search(text)
+            out.setdefault(m.group(1) if m else os.path.basename(dirpath), dirpath)
+            continue
+        if "manifest.xml" in filenames:
+            dirnames[:] = []
+            out.setdefault(os.path.basename(dirpath), dirpath)
+            continue
+        if "rospack_nosubdirs" in filenames:
+            dirnames[:] = []
     return out
 
 

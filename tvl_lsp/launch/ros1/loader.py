@@ -404,7 +404,7 @@ def analyse_launch(text: str, path: str, workspace_root: Optional[str] = None, r
                                              a["value"].value if "value" in a else None,
                                              a["doc"].value if "doc" in a else None, path, el))
     return LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, _merge_facts(w.facts),
-                          w.includes, w.params, root, _required_free(feature_decls, free, w))
+                          w.includes, w.params, root, required_args=_required_free(feature_decls, free, w))
 
 
 def _required_free(decls: list[ArgDecl], free: list[str], w: Walker) -> list[str]:
@@ -433,7 +433,7 @@ def _merge_facts(facts: list[ErrorFact]) -> list[ErrorFact]:
         key = (f.code, f.path, f.span, f.message)
         g = out.get(key)
         if g is None:
-            out[key] = ErrorFact(f.code, f.severity, f.message, f.path, f.span, f.condition, list(f.related), f.arg)
+            out[key] = ErrorFact(f.code, f.severity, f.message, f.path, f.span, f.condition, list(f.related), arg=f.arg)
         else:
             g.condition = disj([g.condition, f.condition])
             for r in f.related:
