@@ -319,7 +319,9 @@ class ScopeRules:
                 out.append((cond, opaque(value)))  # reads a value tvl-lsp does not know
                 continue
             try:
-                out.append((cond, S.run_eval(tree, env_args, self.env, self.eval_find)))
+                out.append((cond, S.run_eval(tree, env_args, self.env, self.eval_find,
+                                             dirname=lambda: os.path.abspath(os.path.dirname(sc.filename)),
+                                             anon=lambda ident: self.eval_anon(sc, ident))))
             except S.EvalArgMissing as m:
                 self.lookup_arg(m.name, el, sc, cond, span, where)
             except S.NotAnalysable:
@@ -329,6 +331,12 @@ class ScopeRules:
             except S.SubstError as e:
                 self.fact(EVAL_ERROR, str(e), el, span, cond)
         return merge(out)
+
+    def eval_anon(self, sc: Scope, ident: str) -> str:
+        """``anon('id')`` inside ``$(eval)``: the name ``$(anon id)`` gives in this file."""
+        if ident not in sc.anon:
+            sc.anon[ident] = S.anon_name(ident, lambda: next(self.anon_counter))
+        return sc.anon[ident]
 
     def eval_find(self, pkg: str) -> str:
         """``find('pkg')`` inside ``$(eval)``: the package's folder (roslaunch raises

@@ -12,6 +12,7 @@ from __future__ import annotations
 import ast
 import math
 import operator
+import re
 from typing import Callable, Mapping
 
 VALID = ("find", "env", "optenv", "dirname", "anon", "arg")
@@ -92,7 +93,16 @@ class EvalArgMissing(Exception):
 _MATH = {k: v for k, v in math.__dict__.items() if not k.startswith("_")}
 _CONSTS = {"true": True, "false": False, "True": True, "False": False}
 _SAFE_FUNCS = {"str": str, "int": int, "float": float, "list": list, "dict": dict, "map": map}
-_RESERVED = set(_CONSTS) | set(_MATH) | set(_SAFE_FUNCS) | {"arg", "env", "optenv", "find", "anon", "dirname"}
+# roslaunch evaluates with eval(s, {}, ...): Python adds the real builtins to the empty globals,
+# so every builtin works there; these are the pure ones (results bounded, printed the same
+# every run -- not zip/filter/reversed/enumerate, whose str() is an object address, nor set,
+# whose order of strings changes from run to run)
+_BUILTINS = {"len": len, "abs": abs, "max": max, "min": min, "round": round, "bool": bool, "sorted": sorted,
+             "sum": sum, "any": any, "all": all, "tuple": tuple, "repr": repr, "hex": hex, "oct": oct,
+             "bin": bin, "chr": chr, "ord": ord, "divmod": divmod, "format": format}
+_RESERVED = set(_CONSTS) | set(_MATH) | set(_SAFE_FUNCS) | set(_BUILTINS) | {
+    "arg", "env", "optenv", "find", "anon", "dirname", "range"}
+MAX_BUILD = 100_000  # the largest string / sequence an $(eval) may build here
 
 _BIN = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
         ast.FloorDiv: operator.floordiv, ast.Mod: operator.mod, ast.Pow: operator.pow}
@@ -124,7 +134,7 @@ def eval_names(tree: ast.Expression) -> tuple[set[str], bool]:
                     ok = False
             elif isinstance(f, ast.Attribute) and f.attr in STR_METHODS:
                 pass  # a string method ('x'.startswith(...)); checked when evaluated
-            elif not (isinstance(f, ast.Name) and f.id in _RESERVED and f.id not in ("anon", "dirname")):
+            elif not (isinstance(f, ast.Name) and f.id in _RESERVED):
                 ok = False
         elif isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load):
             if n.id not in _RESERVED:
@@ -140,25 +150,38 @@ def eval_names(tree: ast.Expression) -> tuple[set[str], bool]:
 # str methods an $(eval) may call (pure, and bounded in what they build)
 STR_METHODS = frozenset({"startswith", "endswith", "lower", "upper", "strip", "lstrip", "rstrip", "split",
                          "rsplit", "find", "rfind", "count", "isdigit", "isalpha", "isalnum", "islower",
-                         "isupper", "capitalize", "title", "replace", "index", "rindex"})
+                         "isupper", "capitalize", "title", "replace", "index", "rindex", "format", "join",
+                         "zfill", "center", "ljust", "rjust", "partition", "rpartition", "splitlines", "swapcase",
+                         "casefold", "isspace", "isnumeric", "isdecimal", "isidentifier", "istitle"})
+_WIDTH = re.compile(r"\d{6,}")  # a format width / precision that would build a huge string
 
 
 def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, str],
-             find: Callable[[str], str] | None = None) -> str:
+             find: Callable[[str], str] | None = None, dirname: Callable[[], str] | None = None,
+             anon: Callable[[str], str] | None = None) -> str:
     """Evaluate like roslaunch's ``_eval`` (result as ``str``). Raises EvalArgMissing,
     NotAnalysable, or SubstError (a runtime error roslaunch would raise).  ``find(pkg)``:
-    the package's folder (``find('pkg')`` in the expression; without it, not analysable)."""
+    the package's folder (``find('pkg')`` in the expression; without it, not analysable);
+    ``dirname()``, ``anon(id)``: as ``$(dirname)`` and ``$(anon id)``."""
 
     def lookup(name: str):
+        # roslaunch's order: its functions and math's names, then the args, then Python's builtins
         if name in _CONSTS:
             return _CONSTS[name]
         if name in _MATH:
             return _MATH[name]
-        if name in _SAFE_FUNCS:
-            return _SAFE_FUNCS[name]
         if name in args:
             return convert_auto(args[name])
+        if name in _SAFE_FUNCS:
+            return _SAFE_FUNCS[name]
+        if name in _BUILTINS:
+            return _BUILTINS[name]
         raise EvalArgMissing(name)
+
+    def sized(v):
+        if isinstance(v, (str, list, tuple, dict, set)) and len(v) > MAX_BUILD:
+            raise NotAnalysable()
+        return v
 
     def ev(n):
         if isinstance(n, ast.Expression):
@@ -223,22 +246,58 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
         if isinstance(n, ast.IfExp):
             return ev(n.body) if ev(n.test) else ev(n.orelse)
         if isinstance(n, (ast.Tuple, ast.List)):
+            if any(isinstance(x, ast.Starred) for x in n.elts):
+                raise NotAnalysable()
             vals = [ev(x) for x in n.elts]
             return tuple(vals) if isinstance(n, ast.Tuple) else vals
+        if isinstance(n, ast.Dict):
+            if any(k is None for k in n.keys):
+                raise NotAnalysable()
+            return {ev(k): ev(v) for k, v in zip(n.keys, n.values)}
         if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute):
             obj = ev(n.func.value)
-            if not isinstance(obj, str) or n.func.attr not in STR_METHODS or n.keywords:
+            attr = n.func.attr
+            if not hasattr(obj, attr) and not isinstance(obj, str):
+                raise SubstError(f"$(eval) failed: AttributeError: '{type(obj).__name__}' object has no "
+                                 f"attribute '{attr}'")
+            if not isinstance(obj, str) or attr not in STR_METHODS:
+                raise NotAnalysable()
+            if any(isinstance(x, ast.Starred) for x in n.args) or any(k.arg is None for k in n.keywords):
                 raise NotAnalysable()
             vals = [ev(x) for x in n.args]
-            if n.func.attr == "replace" and len(vals) >= 2 and isinstance(vals[1], str) and \
-                    len(obj) * max(len(vals[1]), 1) > 100_000:
+            kws = {k.arg: ev(k.value) for k in n.keywords}
+            if attr == "replace" and len(vals) >= 2 and isinstance(vals[1], str) and \
+                    len(obj) * max(len(vals[1]), 1) > MAX_BUILD:
                 raise NotAnalysable()
-            return getattr(obj, n.func.attr)(*vals)
+            if attr in ("zfill", "center", "ljust", "rjust") and vals and isinstance(vals[0], int) and \
+                    vals[0] > MAX_BUILD:
+                raise NotAnalysable()
+            if attr == "format" and _WIDTH.search(obj):
+                raise NotAnalysable()
+            return sized(getattr(obj, attr)(*vals, **kws))
         if isinstance(n, ast.Call):
-            if not isinstance(n.func, ast.Name) or n.keywords:
+            if not isinstance(n.func, ast.Name) or any(isinstance(x, ast.Starred) for x in n.args) or \
+                    any(k.arg is None for k in n.keywords):
                 raise NotAnalysable()
             fname = n.func.id
             vals = [ev(x) for x in n.args]
+            kws = {k.arg: ev(k.value) for k in n.keywords}
+            if fname == "dirname" and not vals and not kws and dirname is not None:
+                return dirname()
+            if fname == "anon" and len(vals) == 1 and not kws and anon is not None and isinstance(vals[0], str):
+                return anon(vals[0])
+            if fname == "range" and not kws and 1 <= len(vals) <= 3 and all(isinstance(v, int) for v in vals):
+                r = range(*vals)
+                if len(r) > MAX_BUILD:
+                    raise NotAnalysable()
+                return r
+            if fname in _BUILTINS or fname in _SAFE_FUNCS:
+                f = _BUILTINS.get(fname) or _SAFE_FUNCS[fname]
+                if fname == "format" and len(vals) > 1 and isinstance(vals[1], str) and _WIDTH.search(vals[1]):
+                    raise NotAnalysable()
+                return sized(f(*vals, **kws))
+            if kws:
+                raise NotAnalysable()
             if fname == "find":
                 if find is None or len(vals) != 1 or not isinstance(vals[0], str):
                     raise NotAnalysable()
@@ -254,7 +313,7 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
                 return env[vals[0]]
             if fname == "optenv":
                 return env.get(vals[0], vals[1] if len(vals) > 1 else "")
-            f = _MATH.get(fname) or _SAFE_FUNCS.get(fname)
+            f = _MATH.get(fname)
             if f is None or not callable(f):
                 raise NotAnalysable()
             return f(*vals)
