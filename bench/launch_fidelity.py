@@ -1,6 +1,6 @@
 """Differential harness: tvl-lsp against the real roslaunch on a whole ROS 1 workspace.
 
-    .venv/bin/python bench/launch_fidelity.py WORKSPACE [--json OUT] [--jobs N] [--only SUBSTR]
+    .venv/bin/python bench/launch_fidelity.py WORKSPACE [--json OUT] [--jobs N] [--only SUBSTR] [--stub-missing]
 
 For every launch file of WORKSPACE (``*.launch``, ``*.launch.xml``, and ``*.test`` / ``*.xml``
 files whose root element is ``<launch>``) and several argument assignments, it runs
@@ -25,6 +25,10 @@ and once ``tvl-lsp --check WORKSPACE`` (check_paths, as the CLI).  It reports:
   workspace, nor one roslaunch finds outside it, under /usr or /opt; nor a generic launch file
   paired with a feature model, whose args its configurations set) where ``--check`` says
   nothing (no error, no warning).
+
+With ``--stub-missing``, every package roslaunch cannot find gets an empty stub package (on
+``ROS_PACKAGE_PATH`` after the workspace, for both tools; ``xacro`` with a stub ``xacro``
+program), so that files using third-party packages load and their parameters compare.
 
 Assignments per file: the defaults (no args); every top-level arg without a default set to
 ``true`` and every boolean default flipped; every arg without a default set to ``false``; and
@@ -114,6 +118,37 @@ def assignments(path: str) -> list[dict[str, str]]:
 
 
 # ------------------------------------------------------------------ roslaunch
+
+def make_stubs(ws: str, files: list[str], nproc: int) -> tuple[str, set[str]]:
+    """Empty packages (a package.xml) for the packages roslaunch cannot find when it loads the
+    files with their defaults, until no more are missing (a stub's files do not exist, so
+    includes of them fail in both tools alike); ``xacro`` also gets a ``xacro`` program."""
+    import tempfile
+    stub_dir = tempfile.mkdtemp(prefix="fidelity-stubs-")
+    names: set[str] = set()
+    for _ in range(4):
+        jobs = [dict(file=f, args=a, package_path=ws + os.pathsep + stub_dir, commands="check")
+                for f in files for a in assignments(f)]
+        missing = set()
+        for r in oracle(jobs, nproc):
+            if not r["ok"] and r["error"] == "ResourceNotFound":
+                m = r["message"].split("\n")[0].strip()
+                m = m.rsplit(": ", 1)[-1] if m.startswith("The following package") else m
+                if re.fullmatch(r"[A-Za-z0-9_.-]+", m) and m not in names:
+                    missing.add(m)
+        if not missing:
+            break
+        for name in missing:
+            d = Path(stub_dir) / name
+            d.mkdir()
+            (d / "package.xml").write_text(f'<package format="2"><name>{name}</name><version>0.0.0</version>'
+                                           "<buildtool_depend>catkin</buildtool_depend></package>\n")
+            if name == "xacro":
+                (d / "xacro").write_text("#!/bin/sh\necho '<robot name=\"stub\"/>'\n")
+                (d / "xacro").chmod(0o755)
+        names |= missing
+    return stub_dir, names
+
 
 def oracle(jobs: list[dict], nproc: int) -> list[dict]:
     if not jobs:
@@ -230,6 +265,11 @@ def main() -> int:
     ap.add_argument("--fake-commands", default="", metavar="PROG,...",
                     help="programs to treat as installed (stub executables put first on PATH for both "
                          "roslaunch and tvl-lsp), e.g. xacro: more files load, more parameters compare")
+    ap.add_argument("--stub-missing", action="store_true",
+                    help="give every package that roslaunch cannot find an empty stub package (outside the "
+                         "workspace, on ROS_PACKAGE_PATH for both tools; xacro with a stub 'xacro' program): "
+                         "files that include or $(find) third-party packages then load, and their parameters "
+                         "compare")
     ap.add_argument("-v", "--verbose", action="store_true")
     ns = ap.parse_args()
     if ns.fake_commands:
@@ -253,6 +293,15 @@ def main() -> int:
     print(f"workspace {ws}: {len(files)} launch files ({sum(f.endswith(('.test', '.xml')) for f in files)} "
           f".test/.xml), {skipped_xml} other XML files")
 
+    pkg_path = ws
+    stub_dir = None
+    if ns.stub_missing:
+        stub_dir, names = make_stubs(ws, files, ns.jobs)
+        pkg_path = ws + os.pathsep + stub_dir
+        os.environ["ROS_PACKAGE_PATH"] = stub_dir  # tvl-lsp launch: after the workspace, as rospack
+        print(f"stub packages for {len(names)} packages missing from the workspace: {' '.join(sorted(names)[:30])}"
+              f"{' ...' if len(names) > 30 else ''}")
+
     # --check first: its witnesses become assignments too
     check_errors: dict[str, list] = {}
     check_warn_files: set[str] = set()
@@ -272,12 +321,12 @@ def main() -> int:
     jobs, meta = [], []
     for f in files:
         for i, a in enumerate(assignments(f)):
-            jobs.append(dict(file=f, args=a, package_path=ws, commands="check", ws=ws))
+            jobs.append(dict(file=f, args=a, package_path=pkg_path, commands="check", ws=ws))
             meta.append((f, "assign", i))
         for k, d in enumerate(check_errors.get(f, [])):
             if d.witness:
                 a = {x: "true" if v else "false" for x, v in d.witness.items()}
-                jobs.append(dict(file=f, args=a, package_path=ws, commands="check", ws=ws))
+                jobs.append(dict(file=f, args=a, package_path=pkg_path, commands="check", ws=ws))
                 meta.append((f, "witness", k))
     rl = oracle([{k: v for k, v in j.items() if k != "ws"} for j in jobs], ns.jobs)
     print(f"roslaunch: {len(jobs)} runs ({time.time() - t0:.0f}s)")
@@ -343,8 +392,8 @@ def main() -> int:
         for f, r in default_result.items():
             if r["ok"] or r["error"] == "ResourceNotFound":
                 continue
-            if re.search(r"(?<![\w/])/(usr|opt)/", r["message"]):
-                continue  # a package outside the workspace found by roslaunch on this machine
+            if re.search(r"(?<![\w/])/(usr|opt)/", r["message"]) or (stub_dir and stub_dir in r["message"]):
+                continue  # a package outside the workspace found by roslaunch on this machine (or a stub)
             if any(p.model for p in wsp.pair(f)[0]):
                 # a generic launch file paired with a feature model: its args are the model's
                 # features, which its configurations set (the file is not run with its defaults)
