@@ -76,9 +76,10 @@ def symbolic_load(analysis, assignment):
 
 
 def _fails(fact) -> bool:
-    """A fact saying roslaunch fails: an error, or an unset arg (a warning where the command
-    line could give it, but this run does not)."""
-    return fact.severity == 1 or fact.code == "unset-arg"
+    """A fact saying roslaunch fails: an error, an unset arg (a warning where the command
+    line could give it, but this run does not), or a program missing from a package's
+    sources (a warning: a build may provide it)."""
+    return fact.severity == 1 or fact.code in ("unset-arg", "command-not-found")
 
 
 def _oracle(jobs):

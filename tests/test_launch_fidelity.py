@@ -286,9 +286,10 @@ def test_a_relative_include_is_a_warning(tmp_path):
     assert span_text(text, d.span) == "launch/part.launch"
 
 
-def test_a_program_missing_from_a_package_of_the_workspace_is_an_error():
-    # roslaunch cannot run $(find delta)/scripts/no_such_generator.py: the package is in the
-    # workspace, the file is not in it
+def test_a_program_missing_from_a_package_of_the_workspace_is_a_warning():
+    # roslaunch on the sources cannot run $(find delta)/scripts/no_such_generator.py: the package
+    # is in the workspace, the file is not in it (a build could put a program of that name in
+    # the package's lib folder, where $(find) looks too: a warning)
     diags = check_paths([str(WS / "src" / "delta" / "launch" / "missing_script.launch")], jobs=1)
     (d,) = [d for d in diags if d.code == "command-not-found"]
-    assert d.severity == Severity.ERROR and d.witness == {"with_model": True}
+    assert d.severity == Severity.WARNING and "package delta has no such file" in d.message

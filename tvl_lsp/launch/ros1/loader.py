@@ -33,7 +33,8 @@ from ..model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnaly
                     ParamFact, Subst)
 from ..packages import find_packages, guess_workspace_root
 from ..xml import XElement, XmlDoc, parse_xml, value_span
-from .rules import _satisfiable, BUDGET, Cases, E, I, cmdline_arg, cmdline_settable, MAX_VISITS, MAX_WALK_DEPTH, NO_LAUNCH_ROOT, W
+from .rules import (_satisfiable, BUDGET, Cases, E, I, cmdline_arg, cmdline_settable, MAX_VISITS, MAX_WALK_DEPTH,
+                    NO_LAUNCH_ROOT, W)
 from .argtypes import ArgTyping, marker
 from .includes import IncludeRules
 from .params import ParamRules

@@ -19,7 +19,7 @@ from ...base.text import Span
 from ..model import Element, ParamFact
 from ..xml import XElement, text_offsets, value_span
 from . import rosyaml
-from .rules import (COMMAND_NOT_FOUND, FILE_NOT_FOUND, INVALID_VALUE, MISSING_ATTRIBUTE, PARAM_INVALID,
+from .rules import (COMMAND_NOT_FOUND, FILE_NOT_FOUND, INVALID_VALUE, MISSING_ATTRIBUTE, PARAM_INVALID, W,
                     PARAM_VALUE_COUNT, UNRESOLVED, _attr_bool, canonicalize, convert_value, make_global_ns, ns_join,
                     shown)
 from .scopes import Scope
@@ -178,8 +178,16 @@ class ParamRules:
         prog = words[0]
         if "/" in prog:
             found = os.path.exists(prog)
-            if not found and not self.concrete and not any(
-                    prog.startswith(folder.rstrip("/") + "/") for folder in self.packages.values()):
+            if not found and not self.concrete:
+                pkg = next((n for n, folder in self.packages.items() if prog.startswith(folder.rstrip("/") + "/")),
+                           None)
+                if pkg is not None:
+                    # roslaunch on the sources fails; after a build, $(find) also finds programs in
+                    # the devel/install space's lib/<pkg> (catkin's libexec): a warning
+                    self.fact(COMMAND_NOT_FOUND, f"Invalid <param> tag: Cannot load command parameter: no such "
+                              f"command [{words!r}]: the package {pkg} has no such file (roslaunch fails unless a "
+                              "build puts the program in its lib folder)", el, self.aspan(el, "command"), c,
+                              severity=W)
                 return True  # a path we cannot check statically (e.g. an install space)
         else:
             found = shutil.which(prog, path=self.env.get("PATH", os.defpath)) is not None

@@ -16,7 +16,8 @@ from ..xml import XAttr, XElement, value_span
 from .rules import (_satisfiable, ARG_ALREADY_SET, ARG_VALUE_AND_DEFAULT, CONDITION_NOT_ANALYSABLE, Cases,
                     DUPLICATE_ARG, ENV_NOT_SET, EVAL_ERROR, IF_AND_UNLESS, INVALID_CONDITION, MAX_CASES,
                     MISSING_ATTRIBUTE, PACKAGE_NOT_FOUND, POISON, SUBST_ARITY, SUBST_SYNTAX, SUBST_UNKNOWN,
-                    UNDEFINED_ARG, UNRESOLVED, UNSET_ARG, W, _bool_val, cmdline_settable, make_global_ns, merge, ns_join, opaque)
+                    UNDEFINED_ARG, UNRESOLVED, UNSET_ARG, W, _bool_val, cmdline_settable, make_global_ns, merge,
+                    ns_join, opaque)
 
 
 class Scope:
