@@ -77,9 +77,9 @@ def symbolic_load(analysis, assignment):
 
 def _fails(fact) -> bool:
     """A fact saying roslaunch fails: an error, an unset arg (a warning where the command
-    line could give it, but this run does not), or a program missing from a package's
-    sources (a warning: a build may provide it)."""
-    return fact.severity == 1 or fact.code in ("unset-arg", "command-not-found")
+    line could give it, but this run does not; likewise an undeclared arg), or a program missing
+    from a package's sources (a warning: a build may provide it)."""
+    return fact.severity == 1 or fact.code in ("unset-arg", "command-not-found", "undefined-arg")
 
 
 def _oracle(jobs):
@@ -361,3 +361,12 @@ def test_find_crawls_the_workspace_as_rospkg_does(tmp_path):
         if o["ok"]:
             assert param_diff(lr, o["values"]) == [], job["file"]
     assert set(pk) == {"plain", "colcon_only", "legacy", "linked"}
+
+
+def test_an_undeclared_arg_given_on_the_command_line_loads():
+    path = str(OWN_WS / "delta" / "launch" / "undeclared_cmdline.launch")
+    args = {"bag_filename": "/data/run.bag"}
+    (o,) = _oracle([dict(file=path, args=args, package_path=str(OWN_WS))])
+    assert o["ok"]
+    lr = load_launch(path, args, packages=find_packages(str(OWN_WS)))
+    assert lr.error is None and param_diff(lr, o["values"]) == []

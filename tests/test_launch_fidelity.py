@@ -293,3 +293,19 @@ def test_a_program_missing_from_a_package_of_the_workspace_is_a_warning():
     diags = check_paths([str(WS / "src" / "delta" / "launch" / "missing_script.launch")], jobs=1)
     (d,) = [d for d in diags if d.code == "command-not-found"]
     assert d.severity == Severity.WARNING and "package delta has no such file" in d.message
+
+
+def test_an_undeclared_arg_the_command_line_may_give_is_a_warning_and_a_typo_an_error(tmp_path):
+    # roslaunch puts its whole command line into the root file's args, declared or not
+    diags = check_paths([str(WS / "src" / "delta" / "launch" / "undeclared_cmdline.launch")], jobs=1)
+    (d,) = [d for d in diags if d.code == "undefined-arg"]
+    assert d.severity == Severity.WARNING and "bag_filename:=" in d.message
+    # close to a declared arg: a typo, an error
+    main = '<launch><arg name="Depth_cam" default="x"/><param name="p" value="$(arg depth_cam)"/></launch>'
+    (d,) = [d for d in _check(tmp_path, {"main.launch": main}) if d.code == "undefined-arg"]
+    assert d.severity == Severity.ERROR
+    # an included file only gets what its <include> passes
+    diags = _check(tmp_path, {"child.launch": '<launch><param name="p" value="$(arg bag)"/></launch>',
+                              "main.launch": '<launch><include file="$(dirname)/child.launch"/></launch>'})
+    (d,) = [d for d in diags if d.code == "undefined-arg"]
+    assert d.severity == Severity.ERROR

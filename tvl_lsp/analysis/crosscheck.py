@@ -365,7 +365,9 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
         w = logic.witness(fact.condition, clear) if clear is not False else None
         if w is None:
             w = logic.witness(fact.condition)
-        if fact.severity == Severity.ERROR and clear is not False:
+        # (an undeclared arg is a warning where the command line may give it, but a witness
+        # does not give it: roslaunch run with the witness stops there)
+        if (fact.severity == Severity.ERROR or fact.code == "undefined-arg") and clear is not False:
             c = logic.lit(fact.condition)
             clear = logic.and_lits(clear, (not c) if isinstance(c, bool) else -c)
         if w is None:

@@ -67,7 +67,7 @@ def analyse_any(text: str, path: str, workspace_root: Optional[str] = None, read
     else:
         from .ros1.loader import analyse_launch
         la = analyse_launch(text, path, workspace_root=workspace_root, read_file=read_file, features=features,
-                            env=env, packages=packages)
+                            env=env, packages=packages, alone=lenient)
     la.dialect = d.dialect
     if d.ambiguous and d.marker is None and path.endswith((".launch.xml", ".xml")) and la.root is not None:
         other = "ros1" if d.ros2 else "ros2"

@@ -60,6 +60,7 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
     def __init__(self, *, concrete: bool, workspace_root: Optional[str], read_file, env: Mapping[str, str],
                  packages: Optional[dict[str, str]] = None, typing: Optional[ArgTyping] = None):
         self.concrete = concrete
+        self.cmdline_undeclared = False  # an undeclared arg the command line may give: a warning
         self.typing = typing  # an arg-typing walk (argtypes.py): values are markers, facts do not matter
         self.flow = 0         # > 0 while resolving values that pass args on (if/unless, <arg> values)
         self.read_file = read_file
@@ -373,17 +374,21 @@ def free_args(text: str, path: str, workspace_root: Optional[str] = None, read_f
 
 def analyse_launch(text: str, path: str, workspace_root: Optional[str] = None, read_file=None, *,
                    features: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None,
-                   packages: Optional[dict[str, str]] = None) -> LaunchAnalysis:
+                   packages: Optional[dict[str, str]] = None, alone: Optional[bool] = None) -> LaunchAnalysis:
     """Analyse a launch file for all assignments of its feature args at once.
 
     ``features``: the args to treat as free booleans (the paired model's features). If None,
     the top-level args without value/default whose every use is an if/unless condition.
     ``read_file(path) -> str | None`` supplies unsaved editor text for other files.
+    ``alone``: the file is checked without a model (default: when ``features`` is None).
     """
     if workspace_root is None and packages is None and os.path.isabs(path):
         workspace_root = guess_workspace_root(path)
     w = Walker(concrete=False, workspace_root=workspace_root, read_file=read_file,
                env=os.environ if env is None else env, packages=packages)
+    # checked alone, the command line is how the file is meant to be run: an undeclared
+    # $(arg X) it gives is a warning (paired with a model, configurations pass only features)
+    w.cmdline_undeclared = alone if alone is not None else features is None
     doc = parse_xml(text, path)
     launch = doc.root if doc is not None and doc.root is not None and doc.root.tag == "launch" else None
     feature_decls: list[ArgDecl] = []

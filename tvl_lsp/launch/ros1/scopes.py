@@ -78,6 +78,15 @@ class Scope:
         return c
 
 
+def _close_name(name: str, declared) -> bool:
+    """Whether an arg of ``declared`` looks like ``name`` mistyped (same letters in another case,
+    or a close spelling)."""
+    import difflib
+    low = name.lower()
+    return any(n != name and (n.lower() == low or difflib.SequenceMatcher(None, n, name).ratio() >= 0.8)
+               for n in declared)
+
+
 class ScopeRules:
     """Substitution args (``$(arg)``, ``$(find)``, ``$(eval)``, ...), if/unless and ``<arg>``
     (a mixin of :class:`~tvl_lsp.launch.ros1.loader.Walker`)."""
@@ -257,8 +266,18 @@ class ScopeRules:
                 base = f"included file [{os.path.basename(where[8:])}] requires the '{name}' arg to be set"
             else:
                 base = f"{os.path.basename(sc.filename)} requires the '{name}' arg to be set"
-            self.fact(UNDEFINED_ARG, f"{base}: '{name}' is not declared in this scope", el, span,
-                      conj([missing, neg(declared)]))
+            undeclared = conj([missing, neg(declared)])
+            if undeclared != FALSE and self.cmdline_undeclared and cmdline_settable(name) and \
+                    not _close_name(name, names):
+                # roslaunch puts the whole command line into the root file's args, declared or not
+                # (load_sysargs_into_context): `roslaunch f.launch bag:=x` loads $(arg bag) without
+                # <arg name="bag"/> -- a warning where the command line reaches; a name close to a
+                # declared one stays an error (a typo)
+                self.fact(UNDEFINED_ARG, f"{base}: '{name}' is not declared in this scope; roslaunch takes it "
+                          f"only from the command line ({name}:=...): declare it (<arg name=\"{name}\"/>)",
+                          el, span, conj([undeclared, sc.cmdline]), severity=W)
+                undeclared = conj([undeclared, neg(sc.cmdline)])
+            self.fact(UNDEFINED_ARG, f"{base}: '{name}' is not declared in this scope", el, span, undeclared)
             # roslaunch fails either way; whether --check calls it an error depends on whether the
             # command line can give the value: it reaches the root file and, through
             # pass_all_args, the files it includes -- never an include without pass_all_args
