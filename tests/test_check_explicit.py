@@ -25,7 +25,9 @@ def run(capsys, monkeypatch):
 
 def test_explicit_xml_launch_file_is_checked(run, tmp_path: Path):
     f = tmp_path / "test-undefined.xml"
-    f.write_text('<?xml version="1.0"?>\n<launch>\n  <node pkg="a" type="b" name="n" args="$(arg nope)"/>\n</launch>\n')
+    # $(arg nope) with only 'Nope' declared: a typo, an error
+    f.write_text('<?xml version="1.0"?>\n<launch>\n  <arg name="Nope" default="x"/>\n'
+                 '  <node pkg="a" type="b" name="n" args="$(arg nope)"/>\n</launch>\n')
     r = run("--check", str(f))
     assert r.returncode == 1, r.stdout + r.stderr
     assert "undefined-arg" in r.stdout
