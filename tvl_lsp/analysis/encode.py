@@ -401,44 +401,47 @@ class Encoding:
             self._add(Element("parent-link", label, f.path, f.name_span, f,
                               [[-v[f]] + [v[p] for p in parents]], negation=[v[f]] + [-v[p] for p in parents]))
         for p in self.features:
-            g = p.group
-            if g is None:
-                continue
-            seen: set = set()
-            kids = []
-            for c in g.children:
-                if c.feature in v and c.feature not in seen:
-                    seen.add(c.feature)
-                    kids.append(c)
-            pv = v[p]
-            lits = [v[c.feature] for c in kids]
-            mand = [c for c in kids if not c.optional]
-            n_opt = len(kids) - len(mand)
-            kw = g.keyword_span if g.keyword_span != ZERO_SPAN else g.span
-            gname = g.kind if g.kind != "card" else f"[{g.lo}..{'*' if g.hi is None else g.hi}]"
-            def names(cs) -> str:
-                ns = [c.feature.name for c in cs]
-                return ", ".join(ns) if len(ns) <= 5 else ", ".join(ns[:4]) + f" … ({len(ns)} children)"
+            for g in p.groups:  # TVL: at most one; UVL: one per block
+                self._encode_group(p, g)
 
-            if g.hi is not None and g.hi < len(kids):
-                cls = [[-pv] + c for c in self.b.at_most(lits, g.hi)]
-                self._add(Element("group", f"group {gname} of {p.name}: at most {g.hi} of {names(kids)}",
-                                  g.path, kw, g, cls))
-            need = g.lo - n_opt
-            if need <= 0:
-                continue
-            if need > len(mand):
-                self._add(Element("group-lower", f"group {gname} of {p.name} cannot be satisfied: "
-                                  f"it needs {g.lo} children", g.path, kw, g, [[-pv]], negation=[pv]))
-            elif need == len(mand):
-                for c in mand:
-                    self._add(Element("mandatory", f"{c.feature.name} is mandatory in {p.name}", c.path,
-                                      c.span if c.span != ZERO_SPAN else c.feature.name_span, c,
-                                      [[-pv, v[c.feature]]], negation=[pv, -v[c.feature]]))
-            else:
-                cls = [[-pv] + c for c in self.b.at_least([v[c.feature] for c in mand], need)]
-                self._add(Element("group-lower", f"group {gname} of {p.name}: at least {need} of "
-                                  f"{names(mand)}", g.path, kw, g, cls))
+    def _encode_group(self, p: M.Feature, g: M.Group) -> None:
+        v = self.var_of_feature
+        seen: set = set()
+        kids = []
+        for c in g.children:
+            if c.feature in v and c.feature not in seen:
+                seen.add(c.feature)
+                kids.append(c)
+        pv = v[p]
+        lits = [v[c.feature] for c in kids]
+        mand = [c for c in kids if not c.optional]
+        n_opt = len(kids) - len(mand)
+        kw = g.keyword_span if g.keyword_span != ZERO_SPAN else g.span
+        gname = g.text
+
+        def names(cs) -> str:
+            ns = [c.feature.name for c in cs]
+            return ", ".join(ns) if len(ns) <= 5 else ", ".join(ns[:4]) + f" … ({len(ns)} children)"
+
+        if g.hi is not None and g.hi < len(kids):
+            cls = [[-pv] + c for c in self.b.at_most(lits, g.hi)]
+            self._add(Element("group", f"group {gname} of {p.name}: at most {g.hi} of {names(kids)}",
+                              g.path, kw, g, cls))
+        need = g.lo - n_opt
+        if need <= 0:
+            return
+        if need > len(mand):
+            self._add(Element("group-lower", f"group {gname} of {p.name} cannot be satisfied: "
+                              f"it needs {g.lo} children", g.path, kw, g, [[-pv]], negation=[pv]))
+        elif need == len(mand):
+            for c in mand:
+                self._add(Element("mandatory", f"{c.feature.name} is mandatory in {p.name}", c.path,
+                                  c.span if c.span != ZERO_SPAN else c.feature.name_span, c,
+                                  [[-pv, v[c.feature]]], negation=[pv, -v[c.feature]]))
+        else:
+            cls = [[-pv] + c for c in self.b.at_least([v[c.feature] for c in mand], need)]
+            self._add(Element("group-lower", f"group {gname} of {p.name}: at least {need} of "
+                              f"{names(mand)}", g.path, kw, g, cls))
 
     def _encode_constraints(self) -> None:
         v = self.var_of_feature

@@ -188,9 +188,7 @@ class Analyzer:
             seen: set = set()
             out = []
             for p in self.enc.features:
-                if p.group is None:
-                    continue
-                for gc in p.group.children:
+                for gc in (c for g in p.groups for c in g.children):
                     if gc.optional and gc.feature in v and (v[p], v[gc.feature]) not in seen:
                         seen.add((v[p], v[gc.feature]))
                         out.append((v[p], v[gc.feature], gc.feature, p))

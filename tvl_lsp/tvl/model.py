@@ -7,9 +7,12 @@ Design notes
 - A feature's *identity* is its object; ``Feature.long_name`` ("Root.A.B") is unique for
   non-shared features and is what the analyses use as the variable name.  Features are
   stored in declaration order in ``Model.features``.
-- A feature has at most one decomposition group (``Feature.group``); a child in a group is a
+- A TVL feature has at most one decomposition group (``Feature.group``); a child in a group is a
   :class:`GroupChild` which says whether it is optional and whether it is a ``shared`` reference
-  to a feature declared elsewhere (a shared feature has several parents).
+  to a feature declared elsewhere (a shared feature has several parents).  A UVL feature may have
+  several groups (``mandatory`` and ``optional`` and ``alternative`` blocks under one feature):
+  the first is ``Feature.group``, the others are in ``Feature.extra_groups``; code that walks
+  groups uses ``Feature.groups`` (all of them) and ``Feature.children``.
 - Expressions are a small AST; names are resolved by the resolver, which fills
   ``Name.target`` with the Feature / Attribute / Constant / EnumValue it designates
   (``None`` when unresolved: a diagnostic has been reported).
@@ -217,6 +220,17 @@ class Group:
     hi: Optional[int] = None
     lo_expr: Optional[Expr] = None  # for card groups: IntLit, Name (constant) or None for *
     hi_expr: Optional[Expr] = None
+    # the group's keyword as written in a UVL model ("optional", "alternative", "[1..3]"); "" in TVL
+    keyword: str = ""
+
+    @property
+    def text(self) -> str:
+        """How the group is written: the UVL keyword, or TVL's ``oneOf`` / ``[i..j]``."""
+        if self.keyword:
+            return self.keyword
+        if self.kind == "card":
+            return f"[{self.lo}..{'*' if self.hi is None else self.hi}]"
+        return self.kind
 
 
 @dataclass(eq=False)
@@ -243,6 +257,8 @@ class Feature:
     # reopenings (``A { }``, ``A.B { }``, ``root A``) and ``shared`` references.
     decl_spans: list[tuple[str, Span]] = field(default_factory=list)
     is_root: bool = False
+    # UVL: the feature's second and later groups (see the module notes)
+    extra_groups: list[Group] = field(default_factory=list)
 
     @property
     def long_name(self) -> str:
@@ -258,14 +274,31 @@ class Feature:
         return ([self.parent] if self.parent else []) + self.shared_parents
 
     @property
+    def groups(self) -> list[Group]:
+        """Every decomposition group of the feature (TVL: at most one)."""
+        if not self.extra_groups:
+            return [self.group] if self.group is not None else []
+        return ([self.group] if self.group is not None else []) + self.extra_groups
+
+    @property
     def children(self) -> list["Feature"]:
-        return [c.feature for c in self.group.children] if self.group else []
+        if not self.extra_groups:
+            return [c.feature for c in self.group.children] if self.group else []
+        return [c.feature for g in self.groups for c in g.children]
 
     def child_entry(self, child: "Feature") -> Optional[GroupChild]:
-        if self.group:
-            for c in self.group.children:
+        for g in self.groups:
+            for c in g.children:
                 if c.feature is child:
                     return c
+        return None
+
+    def group_of(self, child: "Feature") -> Optional[Group]:
+        """The group of this feature in which ``child`` is a child."""
+        for g in self.groups:
+            for c in g.children:
+                if c.feature is child:
+                    return g
         return None
 
     @property
@@ -278,6 +311,17 @@ class Feature:
 
 
 Target = Union[Feature, Attribute, Constant, EnumValue, TypeDecl]
+
+
+@dataclass(eq=False)
+class Unanalysed:
+    """Something a model says that the analyses leave out (kept for converters and hovers)."""
+    kind: str      # "constraint" | "attribute" | "feature-type" | "feature-cardinality" | ...
+    text: str      # its source text
+    span: Span
+    path: str
+    owner: Optional["Feature"] = None
+    reason: str = ""
 
 
 @dataclass(eq=False)
@@ -298,6 +342,11 @@ class Model:
     includes: list[Include] = field(default_factory=list)
     # every file that contributed text: path -> text (the main file and included ones)
     sources: dict[str, str] = field(default_factory=dict)
+    # the format the model was read from: "tvl", "uvl" or "dimacs"
+    format: str = "tvl"
+    # what the front end read but the analyses leave out (UVL attributes, arithmetic and
+    # string constraints, ...), each reported as ``not-analysed``
+    unanalysed: list["Unanalysed"] = field(default_factory=list)
 
     def feature(self, name: str) -> Optional[Feature]:
         """Look a feature up by long name ("Root.A.B") or, when unique, short name."""
