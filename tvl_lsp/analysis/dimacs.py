@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 import re
+from typing import Optional
 
 from ..base.text import Span, Pos
 from ..tvl import model as M
@@ -27,14 +28,26 @@ class DimacsError(ValueError):
     pass
 
 
-def parse_dimacs(text: str) -> tuple[int, list[list[int]], dict[int, str], list[int]]:
-    """(declared variables, clauses, names by index, line number of each clause)."""
+def parse_dimacs(text: str, errors: Optional[list] = None) -> tuple[int, list[list[int]], dict[int, str], list[int]]:
+    """(declared variables, clauses, names by index, line number of each clause).
+
+    Raises :class:`DimacsError` on the first malformed line, unless ``errors`` is a list: then
+    each problem is appended to it as ``(line, start column, end column, message)`` and the
+    line's bad tokens are skipped."""
     nvars = 0
     names: dict[int, str] = {}
     clauses: list[list[int]] = []
     lines_of: list[int] = []
     cur: list[int] = []
     cur_line = 0
+    seen_p = False
+
+    def bad(ln: int, c0: int, c1: int, msg: str) -> None:
+        if errors is None:
+            raise DimacsError(f"line {ln + 1}: {msg}")
+        if len(errors) < 100:
+            errors.append((ln, c0, c1, msg))
+
     for ln, line in enumerate(text.splitlines()):
         s = line.strip()
         if not s:
@@ -46,17 +59,27 @@ def parse_dimacs(text: str) -> tuple[int, list[list[int]], dict[int, str], list[
             continue
         if s[0] == "p":
             parts = s.split()
-            if len(parts) < 4 or parts[1] != "cnf":
-                raise DimacsError(f"line {ln + 1}: bad problem line {s!r}")
+            lead = len(line) - len(line.lstrip())
+            if len(parts) < 4 or parts[1] != "cnf" or not parts[2].isdigit() or not parts[3].isdigit():
+                bad(ln, lead, len(line.rstrip()), f"bad problem line {s!r}: expected 'p cnf VARIABLES CLAUSES'")
+                continue
+            if seen_p:
+                bad(ln, lead, len(line.rstrip()), "a second problem line")
+            seen_p = True
             nvars = int(parts[2])
             continue
         if s[0] == "%":
             break
+        col = 0
         for tok in s.split():
+            col = line.index(tok, col)
             try:
                 x = int(tok)
             except ValueError:
-                raise DimacsError(f"line {ln + 1}: {tok!r} is not a literal") from None
+                bad(ln, col, col + len(tok), f"{tok!r} is not a literal (a signed variable number, 0 ends a clause)")
+                col += len(tok)
+                continue
+            col += len(tok)
             if not cur:
                 cur_line = ln
             if x == 0:
@@ -84,9 +107,32 @@ def _or_tree(items: list[M.Expr], span: Span, path: str) -> M.Expr:
     return items[0]
 
 
-def dimacs_to_model(text: str, path: str = "model.dimacs") -> M.Model:
-    nvars, clauses, names, lines_of = parse_dimacs(text)
-    maxvar = max([nvars] + [abs(x) for c in clauses for x in c] + list(names))
+def read_dimacs(text: str, path: str = "model.dimacs"):
+    """The flat model of a DIMACS file and its diagnostics (malformed lines, names given to two
+    variables); never raises on bad input."""
+    from ..diagnostics import Diagnostic, Related, Severity, register
+    errors: list = []
+    model = dimacs_to_model(text, path, errors)
+    syntax = register("syntax-error", Severity.ERROR, "the text does not follow the TVL grammar", "tvl")
+    dup = register("duplicate-feature-name", Severity.ERROR, "two features of a UVL model have the same name", "uvl")
+    diags = [Diagnostic(syntax, Severity.ERROR, path, Span(Pos(ln, c0), Pos(ln, c1)), msg)
+             for ln, c0, c1, msg in errors]
+    first: dict[str, M.Feature] = {}
+    for f in model.features[1:]:
+        if f.name in first and f.name_span != Span(Pos(0, 0), Pos(0, 0)):
+            other = first[f.name]
+            diags.append(Diagnostic(dup, Severity.ERROR, path, f.name_span,
+                                    f"two variables are named '{f.name}': commands that take a feature name "
+                                    "cannot tell them apart", related=[Related(path, other.name_span, "the other one")]))
+        first.setdefault(f.name, f)
+    return model, diags
+
+
+def dimacs_to_model(text: str, path: str = "model.dimacs", errors: Optional[list] = None) -> M.Model:
+    nvars, clauses, names, lines_of = parse_dimacs(text, errors)
+    maxvar = max([nvars] + [abs(x) for c in clauses for x in c])
+    if not nvars:  # no problem line: the comments may name more variables
+        maxvar = max([maxvar] + [i for i in names if i <= 10 * maxvar + 1000])
     zero = Span(Pos(0, 0), Pos(0, 0))
     stem = re.sub(r"\W", "_", os.path.splitext(os.path.basename(path))[0]) or "model"
     if stem[0].isdigit():
@@ -96,7 +142,7 @@ def dimacs_to_model(text: str, path: str = "model.dimacs") -> M.Model:
     while root_name in taken:
         root_name = "_" + root_name
     root = M.Feature(root_name, zero, zero, path, is_root=True)
-    model = M.Model(path=path, root=root, features=[root], sources={path: text})
+    model = M.Model(path=path, root=root, features=[root], sources={path: text}, format="dimacs")
     group = M.Group("card", root, zero, zero, path, lo=0, hi=None)
     root.group = group
     feats: list[M.Feature] = [root]

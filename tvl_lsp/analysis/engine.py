@@ -71,6 +71,16 @@ class ModelAnalysis:
         from .dimacs import dimacs_to_model
         return cls(dimacs_to_model(text, path))
 
+    @classmethod
+    def from_file(cls, path: str, text: Optional[str] = None) -> "ModelAnalysis":
+        """A .tvl, .uvl or .dimacs model (what it could read of it: see
+        :func:`tvl_lsp.analysis.formats.parse_any_model` for its diagnostics)."""
+        from .formats import parse_any_model
+        if text is None:
+            with open(path, encoding="utf-8", errors="replace") as fh:
+                text = fh.read()
+        return cls(parse_any_model(text, path).model)
+
     # ------------------------------------------------------------------ basics
     @property
     @_locked
@@ -181,7 +191,8 @@ class ModelAnalysis:
             out.append(Diagnostic(DEAD_FEATURE, Severity.WARNING, f.path, f.name_span,
                                   f"Feature {self.name(f)} is dead: no product can select it." + because(ex),
                                   related=related(ex), data={"feature": self.name(f)}))
-        for f, p in an.false_optional():
+        # a DIMACS model has no hierarchy: "optional" means nothing there
+        for f, p in (an.false_optional() if self.model.format != "dimacs" else []):
             ex = explain([v[p], -v[f]])
             out.append(Diagnostic(FALSE_OPTIONAL, Severity.WARNING, f.path, f.name_span,
                                   f"Feature {self.name(f)} is declared optional but every product that "

@@ -55,10 +55,11 @@ def _valid(e: _Entry, read_file: ReadFile) -> bool:
 
 def load(path: str, text: str, read_file: ReadFile):
     """``(result, analysis)``: the model at ``path`` with the given ``text`` parsed
-    (:func:`tvl_lsp.tvl.parse_model`, includes read through ``read_file``) and its analysis,
+    (:func:`tvl_lsp.analysis.formats.parse_any_model`: TVL, UVL or DIMACS by the name; includes and
+    imports read through ``read_file``) and its analysis,
     from the cache when nothing it read has changed.  Callers must not modify either."""
     from ..analysis.engine import ModelAnalysis
-    from ..tvl import parse_model
+    from ..analysis.formats import parse_any_model as parse_model
     key = _key(path, text)
     with _LOCK:
         lk = _PARSING.setdefault(key, threading.Lock())

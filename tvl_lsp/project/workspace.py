@@ -6,8 +6,8 @@ server passes one that prefers the editor's unsaved buffers); only :func:`discov
 :func:`find_workspace_root` look at the file system's directory structure.
 
 Files
-    ``*.tvl`` (models), ``*.launch`` / ``*.launch.xml`` (roslaunch and ros2/launch files),
-    ``*.launch.yaml`` / ``*_launch.xml`` / ``*_launch.yaml`` (ros2/launch files), HAROS project files
+    ``*.tvl``, ``*.uvl`` and ``*.dimacs`` (models), ``*.launch`` / ``*.launch.xml`` (roslaunch and
+    ros2/launch files), ``*.launch.yaml`` / ``*_launch.xml`` / ``*_launch.yaml`` (ros2/launch files), HAROS project files
     (a ``*.yaml`` / ``*.yml`` whose top level has ``configurations``) and ``package.xml``
     (ROS packages: its ``<name>`` names the folder it is in).  The folders ``.git``, ``build``,
     ``devel``, ``install`` and ``node_modules`` are skipped, and so are hidden folders (``.venv``,
@@ -34,8 +34,11 @@ Pairing a launch file with a model — the first rule that applies wins:
    The path is relative to the launch file's folder (``$(find pkg)/...`` and
    ``$(find-pkg-share pkg)/...`` also work);
    ``model=none`` turns pairing off for the file (it is then checked alone).
-3. ``same-stem``: ``robot.tvl`` in the same folder as ``robot.launch`` /
+3. ``same-stem``: ``robot.tvl`` (else ``robot.uvl``) in the same folder as ``robot.launch`` /
    ``robot.launch.xml`` / ``robot.launch.yaml``.
+
+A model is a TVL (``.tvl``), UVL (``.uvl``) or DIMACS (``.dimacs``) file wherever a rule names it:
+``tvl: pkg/robot.uvl`` in a project file, ``model=robot.uvl`` in a marker.
 
 A launch file that none of these pair is checked alone (``Pairing.model is None``,
 ``rule == "none"``).  Problems with project files or markers (malformed YAML, a named file that
@@ -72,7 +75,7 @@ MARKER_MODEL_NOT_FOUND = register(
 SKIP_DIRS = frozenset({".git", "build", "devel", "install", "log", "node_modules"})
 # roslaunch's .launch / .launch.xml; ros2/launch's .launch.xml, .launch.yaml and *_launch.xml / *_launch.yaml
 LAUNCH_SUFFIXES = _LAUNCH_SUFFIXES
-MODEL_SUFFIXES = (".tvl",)
+MODEL_SUFFIXES = (".tvl", ".uvl", ".dimacs")  # (a ".cnf" is a model when named explicitly)
 YAML_SUFFIXES = (".yaml", ".yml")
 MAX_PROJECT_BYTES = 2_000_000
 
@@ -161,7 +164,7 @@ def _looks_like_launch(path: str) -> bool:
 
 def _classify(path: str, out: Files) -> None:
     base = os.path.basename(path)
-    if is_model(path):
+    if is_model(path) or (explicit and path.endswith(".cnf")):
         out.models.append(path)
     elif is_launch(path):
         out.launches.append(path)
@@ -593,9 +596,10 @@ class Workspace:
                    else f"`{ref}` does not exist")
             diags.append(Diagnostic(MARKER_MODEL_NOT_FOUND, Severity.ERROR, launch, span,
                                     f"the model named by this tvl-lsp marker was not found: {why}"))
-        stem = os.path.join(os.path.dirname(launch), launch_stem(launch) + ".tvl")
-        if self._exists(stem):
-            return [Pairing(launch, stem, RULE_STEM)], diags
+        for suffix in (".tvl", ".uvl"):
+            stem = os.path.join(os.path.dirname(launch), launch_stem(launch) + suffix)
+            if self._exists(stem):
+                return [Pairing(launch, stem, RULE_STEM)], diags
         return [Pairing(launch, None, RULE_NONE)], diags
 
     def _exists(self, path: str) -> bool:

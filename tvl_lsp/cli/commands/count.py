@@ -1,6 +1,7 @@
 """``tvl-lsp count MODEL [--include F]... [--exclude F]... [--per-feature] [--json] [--timeout S]``
 
-Prints the exact number of products of a TVL model (``.tvl``) or of a DIMACS CNF
+Prints the exact number of products of a TVL model (``.tvl``), a UVL model (``.uvl``, its boolean
+part: see ``not-analysed``) or of a DIMACS CNF
 (``.dimacs`` / ``.cnf``, every variable a feature, names from ``c <index> <name>``
 comments) on its last line; with ``--per-feature``, one line ``name<TAB>count`` per feature
 before it (every feature's count comes from one pass over the compiled model).
@@ -125,8 +126,8 @@ def load(path: str, need_unique_names: bool = True):
         from ...analysis.engine import ModelAnalysis
         return _TvlModel(ModelAnalysis.from_dimacs(text, path)), []
     from ...analysis.engine import ModelAnalysis
-    from ...tvl import parse_model
-    res = parse_model(text, path)
+    from ...analysis.formats import parse_any_model
+    res = parse_any_model(text, path)
     if res.model is None:
         raise ValueError("no model could be read")
     return _TvlModel(ModelAnalysis(res.model)), res.errors
@@ -144,7 +145,7 @@ def report_errors(prog: str, path: str, model, errors) -> None:
 
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(prog="tvl-lsp count", description="Exact number of products of a feature model.")
-    ap.add_argument("model", help="a .tvl model or a .dimacs CNF")
+    ap.add_argument("model", help="a .tvl or .uvl model, or a .dimacs CNF")
     ap.add_argument("--include", "-i", action="append", default=[], metavar="F", help="count only products with F")
     ap.add_argument("--exclude", "-x", action="append", default=[], metavar="F", help="count only products without F")
     ap.add_argument("--per-feature", action="store_true", help="also the number of products with each feature")

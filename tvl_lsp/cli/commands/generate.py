@@ -47,7 +47,7 @@ def main(argv: list[str]) -> int:
     from ...project.generate import GenerateError, plan_configurations, resolve_folder
     from ...launch import analyse_any
     from ...project.generate import ros2_choices
-    from ...tvl import parse_model
+    from ...analysis.formats import parse_any_model as parse_model
     from ...project.workspace import find_workspace_root, load_workspace, norm
 
     launch = norm(args.launch)
