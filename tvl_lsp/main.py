@@ -6,9 +6,10 @@ usage:
                                     (tvl-lsp --check --help for formats and options)
   tvl-lsp --explain [CODE]          what a diagnostic code means and how to fix it
   tvl-lsp count MODEL [--include F]... [--exclude F]... [--per-feature] [--json]
-                                    exact number of products (MODEL: .tvl or .dimacs)
+                                    exact number of products (MODEL: .tvl, .uvl or .dimacs)
   tvl-lsp sample MODEL (--t 2 | --uniform N) [--seed S] [--include F]... [--json]
                                     products to test: a pairwise cover, or uniform at random
+  tvl-lsp convert IN OUT [--verify]  convert a model between TVL, UVL and DIMACS (by extension)
   tvl-lsp launch FILE [name:=value ...] [--json]
                                     what roslaunch would load from FILE under these args
   tvl-lsp generate LAUNCH [--mode one|completions|all|sample] ...
@@ -36,6 +37,7 @@ SUBCOMMANDS = {
     "check": "tvl_lsp.cli.commands.check",
     "graph": "tvl_lsp.cli.commands.graph",
     "ui": "tvl_lsp.ui.command",
+    "convert": "tvl_lsp.cli.commands.convert",
 }
 
 
