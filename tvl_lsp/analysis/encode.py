@@ -52,6 +52,8 @@ CONSTRAINT_NOT_ENCODED = register(
 # the direct (one-hot) encoding of integer terms gives up beyond this many value pairs
 MAX_VALUE_PAIRS = 20000
 MAX_DOMAIN = 4096
+# a constraint is distributed into at most this many clauses before Tseitin variables are used
+DISTRIBUTE_MAX = 16
 
 Lit = Union[int, bool]  # a literal, or a folded constant
 
@@ -536,9 +538,96 @@ class Encoding:
                 self._assert(e.left, prefix, True, out, ctx)
                 self._assert(e.right, prefix, True, out, ctx)
                 return
+        if isinstance(e, M.Binary):
+            # a small CNF by distribution needs no auxiliary variable (A & B | !C is two clauses)
+            cnf = self._cnf(e, pos, ctx, DISTRIBUTE_MAX)
+            if cnf is not None:
+                for cl in cnf:
+                    c = _clean(prefix + cl)
+                    if c is not None:
+                        out.append(c)
+                return
         c = _clean(prefix + self._disjuncts(e, pos, ctx))
         if c is not None:
             out.append(c)
+
+    def _cnf(self, e: M.Expr, pos: bool, ctx, limit: int) -> Optional[list[list[Lit]]]:
+        """Clauses meaning ``e`` (``!e`` when not pos) by distribution, or None when that takes
+        more than ``limit`` clauses (then Tseitin variables are cheaper)."""
+        if isinstance(e, M.Unary) and e.op == "!":
+            return self._cnf(e.operand, not pos, ctx, limit)
+        if isinstance(e, M.BoolLit):
+            _check_read(e)
+            return [] if bool(e.value) == pos else [[]]
+        if isinstance(e, M.Binary):
+            op = _ALIAS.get(e.op, e.op)
+            if op in ("&&", "||"):
+                parts = _chain(e, op)
+                if (op == "&&") == pos:
+                    out: list[list[Lit]] = []
+                    for p in parts:
+                        c = self._cnf(p, pos, ctx, limit)
+                        if c is None:
+                            return None
+                        out += c
+                        if len(out) > limit:
+                            return None
+                    return out
+                return self._product([(p, pos) for p in parts], ctx, limit)
+            if op in ("->", "requires", "<-"):
+                a, b_ = (e.left, e.right) if op != "<-" else (e.right, e.left)
+                if pos:
+                    return self._product([(a, False), (b_, True)], ctx, limit)
+                return self._product_and([(a, True), (b_, False)], ctx, limit)
+            if op == "excludes":
+                if pos:
+                    return self._product([(e.left, False), (e.right, False)], ctx, limit)
+                return self._product_and([(e.left, True), (e.right, True)], ctx, limit)
+            if op == "<->" or (op in ("==", "!=") and self._is_bool(e.left) and self._is_bool(e.right)):
+                same = pos if op != "!=" else not pos
+                if same:
+                    a = self._product([(e.left, False), (e.right, True)], ctx, limit)
+                    b_ = self._product([(e.left, True), (e.right, False)], ctx, limit) if a is not None else None
+                else:
+                    a = self._product([(e.left, True), (e.right, True)], ctx, limit)
+                    b_ = self._product([(e.left, False), (e.right, False)], ctx, limit) if a is not None else None
+                if a is None or b_ is None or len(a) + len(b_) > limit:
+                    return None
+                return a + b_
+        x = self._blit(e, ctx)
+        return [[x if pos else self.b.not_(x)]]
+
+    def _product_and(self, items, ctx, limit: int) -> Optional[list[list[Lit]]]:
+        out: list[list[Lit]] = []
+        for p, s in items:
+            c = self._cnf(p, s, ctx, limit)
+            if c is None:
+                return None
+            out += c
+            if len(out) > limit:
+                return None
+        return out
+
+    def _product(self, items, ctx, limit: int) -> Optional[list[list[Lit]]]:
+        """The CNF of a disjunction of ``(expr, pos)`` items."""
+        base: list[Lit] = []
+        multi: list[list[list[Lit]]] = []
+        for p, s in items:
+            c = self._cnf(p, s, ctx, limit)
+            if c is None:
+                return None
+            if not c:
+                return []  # a disjunct that always holds
+            if len(c) == 1:
+                base.extend(c[0])
+            else:
+                multi.append(c)
+        acc = [base]
+        for c in multi:
+            acc = [a + b for a in acc for b in c]
+            if len(acc) > limit:
+                return None
+        return acc
 
     def _disjuncts(self, e: M.Expr, pos: bool, ctx) -> list[Lit]:
         """Literals whose OR means ``e`` (``!e`` when not pos).  Iterative: DIMACS clauses
