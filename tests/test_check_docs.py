@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "diagnostics.md"
 CODES = load_codes()
 SECTIONS = sections(DOC.read_text(encoding="utf-8"))
-FENCE = re.compile(r"```(tvl|xml|text)\n(.*?)```", re.S)
+FENCE = re.compile(r"```(tvl|uvl|xml|text)\n(.*?)```", re.S)
 
 
 def test_every_registered_code_has_a_section():
@@ -51,12 +51,12 @@ def test_explain_unknown_code_and_listing(capsys):
 
 
 EXAMPLES = [(code, m.group(1), m.group(2)) for code, sec in sorted(SECTIONS.items())
-            for m in [FENCE.search(sec)] if m and m.group(1) in ("tvl", "xml")]
+            for m in [FENCE.search(sec)] if m and m.group(1) in ("tvl", "uvl", "xml")]
 
 
 @pytest.mark.parametrize("code,lang,text", EXAMPLES, ids=[e[0] for e in EXAMPLES])
 def test_complete_examples_get_their_code(code, lang, text, tmp_path):
-    path = tmp_path / ("example.tvl" if lang == "tvl" else "example.launch")
+    path = tmp_path / {"tvl": "example.tvl", "uvl": "example.uvl"}.get(lang, "example.launch")
     path.write_text(text)
     got = {d.code for d in check_document(str(path))}
     assert code in got, f"{code}: the example gets {sorted(got)}"

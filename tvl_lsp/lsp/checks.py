@@ -21,10 +21,15 @@ LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".test", ".launch.yaml", ".launch.y
 
 
 def file_kind(path: str) -> Optional[str]:
-    """"tvl", "launch" or None: which front end the server analyses a document with."""
+    """"tvl", "uvl", "dimacs", "launch" or None: which front end the server analyses a document
+    with (the first three are models: project.facts.MODEL_KINDS)."""
     p = path.lower()
     if p.endswith(".tvl"):
         return "tvl"
+    if p.endswith(".uvl"):
+        return "uvl"
+    if p.endswith((".dimacs", ".cnf")):
+        return "dimacs"
     if p.endswith(LAUNCH_SUFFIXES) or p.endswith(".xml") and "launch" in p:
         return "launch"
     return None
@@ -44,9 +49,9 @@ def _root_for(path: str, roots: Sequence[str]) -> Optional[str]:
 
 def parse_document(kind: str, path: str, text: str, read: Reader, roots: Sequence[str]):
     """The front end's result for a document: a TvlResult (model) or a LaunchAnalysis."""
-    if kind == "tvl":
-        from ..tvl import parse_model
-        return parse_model(text, path, read_file=read)
+    if kind in ("tvl", "uvl", "dimacs"):
+        from ..analysis.formats import parse_any_model
+        return parse_any_model(text, path, read_file=read, fmt=kind)
     if kind == "launch":
         from ..launch import analyse_any
         return analyse_any(text, path, workspace_root=_root_for(path, roots), read_file=read)
@@ -75,10 +80,10 @@ def depends_on(ls, doc, changed: str) -> bool:
     paired with it (so that both sides stay consistent in the editor)."""
     ck = file_kind(changed)
     if doc.kind == "launch":
-        if ck == "tvl":
+        if ck in ("tvl", "uvl", "dimacs"):
             return _norm(changed) in {_norm(m) for m in ls.models_for_launch(doc.path)}
         return ck == "launch"
-    if doc.kind == "tvl" and ck == "launch":
+    if doc.kind in ("tvl", "uvl", "dimacs") and ck == "launch":
         return _norm(doc.path) in {_norm(m) for m in ls.models_for_launch(changed)}
     return False
 

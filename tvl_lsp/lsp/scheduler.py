@@ -158,7 +158,7 @@ class Scheduler:
         models paired with a launch file) in the background, so that the first hover and the
         code lens find the counts ready instead of saying "counting…"."""
         try:
-            models = [path] if kind == "tvl" else list(self.models_for_launch(path))
+            models = [path] if kind in ("tvl", "uvl", "dimacs") else list(self.models_for_launch(path))
         except Exception:
             log.exception("pairing failed")
             return

@@ -11,6 +11,9 @@ from typing import Iterable, Optional
 from ..base.text import Pos, Span
 from ..tvl import model as M
 
+# the kinds of model documents (TVL, UVL, DIMACS): hover, code lens, outline, configurator, ...
+MODEL_KINDS = ("tvl", "uvl", "dimacs")
+
 
 # ------------------------------------------------------------------ model facts
 
@@ -232,10 +235,7 @@ def references(model: M.Model, target) -> list[tuple[str, Span]]:
 
 
 def group_text(g: M.Group) -> str:
-    if g.kind == "card":
-        hi = "*" if g.hi is None else str(g.hi)
-        return f"[{g.lo}..{hi}]"
-    return g.kind
+    return g.text
 
 
 # ------------------------------------------------------------------ launch look-ups

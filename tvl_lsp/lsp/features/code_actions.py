@@ -9,6 +9,7 @@ from lsprotocol import types
 
 from ...base.diagnostics import Fix, TextEdit
 from ..convert import fix_to_edit, from_lsp_range, spans_overlap, to_lsp_diagnostic
+from ...project.facts import MODEL_KINDS
 from .commands import GENERATE, can_create, creation_edit, plan
 
 
@@ -71,7 +72,7 @@ def register(ls) -> None:
             diags = [to_lsp_diagnostic(d, doc.index, enc, ls.index_of) for d in all_missing]
             actions.append(types.CodeAction(title=fx.title, kind=types.CodeActionKind.QuickFix,
                                             diagnostics=diags, edit=fix_to_edit(fx, ls.index_of, enc)))
-        paired = bool(ls.launches_for_model(doc.path)) if doc.kind == "tvl" else bool(ls.models_for_launch(doc.path))
+        paired = bool(ls.launches_for_model(doc.path)) if doc.kind in MODEL_KINDS else bool(ls.models_for_launch(doc.path))
         if paired:
             limit = ls.settings.generate_limit
             resolvable = "edit" in (ls.cap("text_document.code_action.resolve_support.properties", []) or [])

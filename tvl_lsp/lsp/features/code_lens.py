@@ -7,6 +7,7 @@ import asyncio
 from lsprotocol import types
 
 from ..convert import to_lsp_range
+from ...project.facts import MODEL_KINDS
 from .commands import COUNT
 
 LENS_WAIT = 0.3
@@ -17,7 +18,7 @@ def register(ls) -> None:
     async def code_lens(ls, params: types.CodeLensParams):
         uri = params.text_document.uri
         doc = ls.docs.get(uri)
-        if doc is None or doc.kind != "tvl":
+        if doc is None or doc.kind not in MODEL_KINDS:
             return None
         res = await ls.parsed(doc.path)
         model = getattr(res, "model", None)

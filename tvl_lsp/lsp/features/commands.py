@@ -22,11 +22,13 @@ from pathlib import Path
 from typing import Any, Optional
 
 from lsprotocol import types
+
 from pygls.exceptions import JsonRpcInvalidParams
 
 from ...project.generate import GenerateError, plan_configurations, resolve_folder, ros2_choices
 from ..convert import path_to_uri, uri_to_path
 from ...project import facts as F
+from ...project.facts import MODEL_KINDS
 
 INCLUDE, EXCLUDE, RESET = "tvl-lsp.include", "tvl-lsp.exclude", "tvl-lsp.reset"
 COUNT, LIST, GENERATE = "tvl-lsp.count", "tvl-lsp.listProducts", "tvl-lsp.generateConfigurations"
@@ -43,7 +45,7 @@ def _path(arg: Any) -> str:
 
 def model_of(ls, path: str) -> str:
     from ..checks import file_kind
-    if file_kind(path) == "tvl":
+    if file_kind(path) in MODEL_KINDS:
         return path
     models = ls.models_for_launch(path)
     if not models:
@@ -174,7 +176,7 @@ async def plan(ls, opts: dict):
     if mode not in ("one", "completions", "all"):
         raise JsonRpcInvalidParams("mode must be one of: one, completions, all")
     limit = opts.get("limit") if isinstance(opts.get("limit"), int) and opts["limit"] > 0 else ls.settings.generate_limit
-    if file_kind(path) == "tvl":
+    if file_kind(path) in MODEL_KINDS:
         model = path
         launch = _path(opts["launch"]) if opts.get("launch") else None
         if launch is None:

@@ -11,6 +11,7 @@ from lsprotocol import types
 from ..convert import from_lsp_position, to_lsp_range
 from ...tvl import model as M
 from ...project import facts as F
+from ...project.facts import MODEL_KINDS
 
 HOVER_WAIT = 0.3  # seconds a hover waits for counts before answering without them
 
@@ -22,7 +23,7 @@ def register(ls) -> None:
         if doc is None or doc.kind is None:
             return None
         pos = from_lsp_position(doc.index, params.position, ls.encoding)
-        if doc.kind == "tvl":
+        if doc.kind in MODEL_KINDS:
             md, span = await tvl_hover(ls, doc.path, pos)
         else:
             md, span = await launch_hover(ls, doc, pos)
@@ -59,18 +60,19 @@ def feature_markdown(ls, f: M.Feature, facts) -> str:
     if f.parent is not None:
         parents = ", ".join(f"`{p.name}`" for p in f.parents)
         lines.append(f"- parent: {parents}")
-        g = f.parent.group
+        g = f.parent.group_of(f)
         if g is not None:
+            opt = "optional" if g.keyword else "optional (`opt`)"  # (UVL groups say it with their keyword)
             if g.kind == "allOf":
-                role = "optional (`opt`)" if f.optional else "mandatory (selected with its parent)"
+                role = opt if f.optional else "mandatory (selected with its parent)"
             else:
-                role = "optional (`opt`)" if f.optional else "counted by the group's cardinality"
+                role = opt if f.optional else "counted by the group's cardinality"
             lines.append(f"- in the group `{F.group_text(g)}` of `{f.parent.name}`: {role}")
     else:
         lines.append("- the root: selected in every product")
-    if f.group is not None:
-        kids = ", ".join(("opt " if c.optional else "") + c.feature.name for c in f.group.children)
-        lines.append(f"- group `{F.group_text(f.group)}` over {kids}")
+    for g in f.groups:
+        kids = ", ".join(("opt " if c.optional and not g.keyword else "") + c.feature.name for c in g.children)
+        lines.append(f"- group `{F.group_text(g)}` over {kids}")
     if facts is not None and not (f.is_root or f.parent is None):
         flags = []
         for label, names in (("core (in every product)", facts.core), ("dead (in no product)", facts.dead),
@@ -82,6 +84,9 @@ def feature_markdown(ls, f: M.Feature, facts) -> str:
             lines.append("- " + "; ".join(flags))
     for a in f.attributes:
         extra = ""
+        if getattr(a, "uvl_text", None) is not None:  # a UVL attribute: its text, not analysed
+            lines.append(f"- attribute `{' '.join(a.uvl_text.split())[:80]}` (not analysed)")
+            continue
         if a.value is not None:
             extra = " (computed)"
         elif a.domain is not None:

@@ -6,12 +6,14 @@ import re
 from typing import Optional
 
 from lsprotocol import types
+
 from pygls.exceptions import JsonRpcInvalidParams
 
 from ..convert import from_lsp_position, path_to_uri, to_lsp_range
 from ...base.text import LineIndex, Span
 from ...tvl import model as M
 from ...project import facts as F
+from ...project.facts import MODEL_KINDS
 
 FEATURE_NAME = re.compile(r"^[A-Z][A-Za-z0-9_]*$")
 ARG_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_/\-.]*$")
@@ -42,7 +44,7 @@ class Symbol:
 
 
 async def symbol_at(ls, doc, pos) -> Optional[Symbol]:
-    if doc.kind == "tvl":
+    if doc.kind in MODEL_KINDS:
         res = await ls.parsed(doc.path)
         model = getattr(res, "model", None)
         if model is None:

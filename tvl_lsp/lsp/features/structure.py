@@ -11,6 +11,7 @@ from ..convert import to_lsp_range
 from ...base.text import LineIndex, Span, to_encoding
 from ...tvl import model as M
 from ...project import facts as F
+from ...project.facts import MODEL_KINDS
 
 TOKEN_TYPES = ["keyword", "class", "property", "variable", "number", "string", "comment",
                "operator", "enumMember", "type"]
@@ -25,7 +26,7 @@ def register(ls) -> None:
         if doc is None or doc.kind is None:
             return None
         parsed = await ls.parsed(doc.path)
-        if doc.kind == "tvl":
+        if doc.kind in MODEL_KINDS:
             model = getattr(parsed, "model", None)
             return tvl_symbols(model, doc.path, doc.index, ls.encoding) if model else []
         return launch_symbols(parsed, doc.path, doc.index, ls.encoding) if parsed is not None else []
@@ -35,7 +36,7 @@ def register(ls) -> None:
         doc = ls.docs.get(params.text_document.uri)
         if doc is None or doc.kind is None:
             return None
-        if doc.kind == "tvl":
+        if doc.kind in MODEL_KINDS:
             parsed = await ls.parsed(doc.path)
             return tvl_folding(getattr(parsed, "model", None), doc.path, doc.text)
         return launch_folding(doc.text)
@@ -74,12 +75,13 @@ def tvl_symbols(model: M.Model, path: str, index: LineIndex, enc: str):
             if a.path == path:
                 rng, sel = _range(index, a.span, enc, a.name_span)
                 kids.append(_sym(a.name, a.type, types.SymbolKind.Field, rng, sel))
-        if f.group is not None and depth < 200:
-            for c in f.group.children:
-                if c.feature.parent is f and c.feature.path == path:
-                    kids.append(feat(c.feature, depth + 1))
+        if depth < 200:
+            for g in f.groups:
+                for c in g.children:
+                    if c.feature.parent is f and c.feature.path == path:
+                        kids.append(feat(c.feature, depth + 1))
         rng, sel = _range(index, f.span, enc, f.name_span)
-        detail = ("opt" if f.optional else "") + (f" group {F.group_text(f.group)}" if f.group else "")
+        detail = ("opt" if f.optional else "") + "".join(f" group {F.group_text(g)}" for g in f.groups)
         return _sym(f.name, detail.strip() or None, types.SymbolKind.Class, rng, sel, kids)
 
     out = []
@@ -135,8 +137,9 @@ def tvl_folding(model, path: str, text: str):
         for f in model.features:
             if f.path == path:
                 add(f.span)
-            if f.group is not None and f.group.path == path:
-                add(f.group.span)
+            for g in f.groups:
+                if g.path == path:
+                    add(g.span)
         for t in model.types:
             if t.path == path:
                 add(t.span)

@@ -41,7 +41,8 @@ def register(ls) -> None:
                         id="tvl-lsp-watch", method=types.WORKSPACE_DID_CHANGE_WATCHED_FILES,
                         register_options=types.DidChangeWatchedFilesRegistrationOptions(watchers=[
                             types.FileSystemWatcher(glob_pattern=g) for g in
-                            ("**/*.tvl", "**/*.launch", "**/*.launch.xml", "**/*.test", "**/*_launch.xml",
+                            ("**/*.tvl", "**/*.uvl", "**/*.dimacs", "**/*.launch", "**/*.launch.xml", "**/*.test",
+                             "**/*_launch.xml",
                              "**/package.xml", "**/*.yaml", "**/*.yml")]))]))
             except Exception:  # the client said no: fine
                 log.debug("watched files registration refused")
