@@ -127,7 +127,7 @@ class UvlBuilder:
             else:
                 self.diag(C_UNTERM_STRING, path, sp, "this string is never closed on its line")
         span = _single_file_span(idx)
-        raw, issues = parse_lines(lines, text, len(text), span, path)
+        raw, issues = parse_lines(lines, text, len(text), span, path, tuple(le.start for le in lex_errors))
         for iss in issues:
             self.diag(C_SYNTAX, path, span(iss.start, iss.end), iss.message)
         f = _File(path, text, idx, raw, span)
@@ -240,26 +240,35 @@ class UvlBuilder:
         return sc, i, False
 
     def _tree(self, f: _File, rf: RawFeature, parent: Optional[M.Feature], group: Optional[M.Group]) -> Optional[M.Feature]:
-        """Build ``rf`` and, without recursion, everything below it."""
-        first = self._feature(f, rf, parent)
-        if first is None:
-            return None
-        todo = [first.__dict__.pop("_uvl_src")]
-        while todo:
-            ff, r, feat = todo.pop()
+        """Build ``rf`` and everything below it, without recursion: the features in source
+        order first, then their groups."""
+        made: dict[int, M.Feature] = {}
+        built: list[tuple[_File, RawFeature, M.Feature]] = []
+        stack = [(f, rf, parent)]
+        while stack:
+            ff, r, par = stack.pop()
+            feat = self._feature(ff, r, par)
+            if feat is None:
+                continue
+            made[id(r)] = feat
+            src = feat.__dict__.pop("_uvl_src", None)
+            if src is None:
+                continue
+            built.append(src)
+            sf, sr, _ = src
+            for rg in reversed(sr.groups):
+                for child in reversed(rg.features):
+                    stack.append((sf, child, feat))
+        for ff, r, feat in built:
             for rg in r.groups:
                 g = self._group(ff, rg, feat)
                 for child in rg.features:
-                    cf = self._feature(ff, child, feat)
-                    if cf is None:
-                        continue
-                    g.children.append(M.GroupChild(cf, rg.kw.type == "OPTIONAL", False, cf.name_span, cf.path))
-                    src = cf.__dict__.pop("_uvl_src", None)
-                    if src is not None:
-                        todo.append(src)
+                    cf = made.get(id(child))
+                    if cf is not None:
+                        g.children.append(M.GroupChild(cf, rg.kw.type == "OPTIONAL", False, cf.name_span, cf.path))
                 if g.kind == "allOf":
                     g.lo = g.hi = len(g.children)
-        return first
+        return made.get(id(rf))
 
     def _feature(self, f: _File, rf: RawFeature, parent: Optional[M.Feature]) -> Optional[M.Feature]:
         """The feature a tree line declares (an import reference brings the imported tree)."""
@@ -326,6 +335,7 @@ class UvlBuilder:
                              f"'{rf.type_tok.value} {name}' is a typed feature (UVL's type level): its value is "
                              "not analysed, only whether it is selected")
         if rf.card is not None:
+            self._card_spaces(f, rf.card)
             self._unanalysed(f, "feature-cardinality", rf.card.start, rf.card.end, feat, "a feature cardinality",
                              f"the feature cardinality {rf.card.value} of '{name}' (several instances) is not "
                              "analysed: the feature is analysed as one feature, selected or not")
@@ -344,6 +354,7 @@ class UvlBuilder:
         elif kw.type in ("MANDATORY", "OPTIONAL"):
             g = M.Group("allOf", owner, sp, ksp, f.path, lo=0, hi=None, keyword=kw.value)
         else:
+            self._card_spaces(f, kw)
             inner = kw.value.strip()[1:-1].replace(" ", "").replace("\t", "")
             lo_s, _, hi_s = inner.partition("..")
             lo = int(lo_s)
@@ -359,6 +370,14 @@ class UvlBuilder:
         else:
             owner.extra_groups.append(g)
         return g
+
+    def _card_spaces(self, f: _File, tok: Tok) -> None:
+        if " " in tok.value or "\t" in tok.value:
+            from ..diagnostics import Fix, TextEdit
+            tight = "".join(tok.value.split())
+            sp = f.span(tok.start, tok.end)
+            self.diag(C_SYNTAX, f.path, sp, f"UVL writes a cardinality without spaces: {tight}",
+                      fixes=[Fix(f"Write {tight}", (TextEdit(f.path, sp, tight),), True)])
 
     # ------------------------------------------------------------ attributes
     def _attributes(self, f: _File, rf: RawFeature, feat: M.Feature) -> None:

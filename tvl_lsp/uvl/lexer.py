@@ -212,8 +212,8 @@ def _width(text: str, i: int) -> int:
 @dataclass
 class Layout:
     tokens: list[Tok]
-    # (offset, end, message) of indentation problems
-    problems: list[tuple[int, int, str]] = field(default_factory=list)
+    # (line index, offset, end, message) of indentation problems
+    problems: list[tuple[int, int, int, str]] = field(default_factory=list)
     # index in ``tokens`` of each line's first token, parallel to the alive lines
     line_of_token: list[int] = field(default_factory=list)
 
@@ -223,7 +223,7 @@ def layout(lines: list[Line], end_pos: int) -> Layout:
     ``line_of_token[i]`` is the index (in ``lines``) of the line token ``i`` belongs to."""
     out: list[Tok] = []
     owner: list[int] = []
-    problems: list[tuple[int, int, str]] = []
+    problems: list[tuple[int, int, int, str]] = []
     stack = [0]
     for li, ln in enumerate(lines):
         if not ln.alive:
@@ -238,13 +238,19 @@ def layout(lines: list[Line], end_pos: int) -> Layout:
             out.append(Tok("_INDENT", "", first.start, first.start))
             owner.append(li)
         elif ind < stack[-1]:
+            popped = None
             while len(stack) > 1 and stack[-1] > ind:
-                stack.pop()
+                popped = stack.pop()
                 out.append(Tok("_DEDENT", "", first.start, first.start))
                 owner.append(li)
             if stack[-1] != ind:
-                problems.append((ln.start, first.start,
+                # between two levels: read it at the deeper one (one block less closed)
+                problems.append((li, ln.start, first.start,
                                  "this line's indentation matches no enclosing level (check tabs and spaces)"))
+                if popped is not None:
+                    stack.append(popped)
+                    out.pop()
+                    owner.pop()
         out.extend(toks)
         owner.extend([li] * len(toks))
         last = toks[-1]

@@ -633,10 +633,17 @@ def _describe(tok: Tok) -> str:
 
 # ---------------------------------------------------------------- driver
 
-def parse_lines(lines: list[Line], text: str, end_pos: int, span, path: str) -> tuple[RawFile, list[SyntaxIssue]]:
-    """Parse the logical lines of one file, recovering line by line."""
+def parse_lines(lines: list[Line], text: str, end_pos: int, span, path: str,
+                lex_errors: tuple = ()) -> tuple[RawFile, list[SyntaxIssue]]:
+    """Parse the logical lines of one file, recovering line by line.  A line with a lexical
+    error (``lex_errors``: offsets, already reported) gets no syntax error of its own."""
     issues: list[SyntaxIssue] = []
     reported: set[int] = set()
+    bad_lines = {_line_start(text, off) for off in lex_errors}
+    if bad_lines:
+        for i, ln in enumerate(lines):
+            if any(_line_start(text, t.start) in bad_lines for t in (ln.toks[0], ln.toks[-1])) or ln.start in bad_lines:
+                reported.add(i)
     tries: dict[int, int] = {}
     broken: set[str] = set()
     lines = list(lines)
@@ -646,8 +653,10 @@ def parse_lines(lines: list[Line], text: str, end_pos: int, span, path: str) -> 
             section = _sections(lines)
             lay = layout(lines, end_pos)
             if attempt == 0:
-                for s, e, msg in lay.problems:
-                    issues.append(SyntaxIssue(s, e, msg))
+                for li, s, e, msg in lay.problems:
+                    if li not in reported:
+                        issues.append(SyntaxIssue(s, e, msg))
+                        reported.add(li)
             ctx = _Ctx(span, path, [])
             _BUILDER.ctx = ctx
             try:
@@ -828,6 +837,12 @@ def _issue(tok: Tok, expected: set, ln: Line, section: str) -> SyntaxIssue:
     if t == "QID" and "." in tok.value and section == "features":
         return SyntaxIssue(tok.start, tok.end,
                            "a quoted feature name cannot contain '.' (it separates an import's name from its features)")
+    if section == "features" and t == "ID" and _GROUP_KWS & set(expected):
+        import difflib
+        close = difflib.get_close_matches(tok.value, ["mandatory", "optional", "or", "alternative"], n=1, cutoff=0.7)
+        if close:
+            return SyntaxIssue(tok.start, tok.end, f"unexpected name {tok.value}: did you mean the group keyword "
+                                                   f"'{close[0]}'?")
     if section == "features" and t in ("ID", "QID") and "_NL" in expected:
         return SyntaxIssue(tok.start, tok.end,
                            f"unexpected {_describe(tok)}: one feature per line (a name with spaces is written in double quotes)")
