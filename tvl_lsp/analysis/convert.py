@@ -419,7 +419,19 @@ class _Tree:
         for f in m.features:
             self._groups_of(f, relocated, elems_by_obj)
         if relocated:
-            self.blocks[root].append(_Block("optional", children=sorted(relocated, key=m.features.index)))
+            moved = sorted(relocated, key=m.features.index)
+            opt_block = next((b for b in self.blocks[root] if b.kind == "optional"), None)
+            if self.target == "uvl" and opt_block is not None:
+                opt_block.children += moved
+            elif self.target == "uvl":
+                self.blocks[root].append(_Block("optional", children=moved))
+            else:  # TVL: optional children of the root's one group
+                allof = next((b for b in self.blocks[root] if b.kind == "allof"), None)
+                if allof is None:
+                    allof = _Block("allof")
+                    self.blocks[root].insert(0, allof)
+                allof.children += moved
+                self._opt = getattr(self, "_opt", set()) | set(moved)
             for f in relocated:
                 self.compile_elems += [e for e in elems_by_obj.get(id(f), []) if e.kind == "parent-link"]
             self.notes.append(f"{len(relocated)} shared feature(s) placed under the root, their parents stated as "
@@ -509,10 +521,6 @@ class _Tree:
             return [[-p, v[k]] for k in kids if k not in opt]
         mand = [k for k in kids if k not in opt]
         out: list[list[int]] = []
-        if g.hi is not None and g.hi < len(kids):
-            if _binom(len(kids), g.hi + 1) > MAX_GROUP_CLAUSES:
-                return None
-            out += [[-p] + [-v[k] for k in ks] for ks in itertools.combinations(kids, g.hi + 1)]
         need = g.lo - len([k for k in kids if k in opt])
         if need > len(mand):
             out.append([-p])
@@ -521,6 +529,10 @@ class _Tree:
             if _binom(len(mand), size) > MAX_GROUP_CLAUSES:
                 return None
             out += [[-p] + [v[k] for k in ks] for ks in itertools.combinations(mand, size)]
+        if g.hi is not None and g.hi < len(kids):
+            if _binom(len(kids), g.hi + 1) > MAX_GROUP_CLAUSES:
+                return None
+            out += [[-p] + [-v[k] for k in ks] for ks in itertools.combinations(kids, g.hi + 1)]
         return out
 
     @staticmethod
@@ -547,7 +559,7 @@ class _Tree:
         v = self.enc.var_of_feature
         feat_of = {x: ff for ff, x in v.items()}
         p = v[f]
-        self.comments[f].append(f"// the '{g.keyword or g.text}' group of {f.name} (TVL has one group per feature):")
+        self.cons[f].append(f"// the '{g.keyword or g.text}' group of {f.name} (TVL has one group per feature):")
         for c in cl:
             rest = [x for x in c if x != -p]
             e = M.BoolLit(False) if not rest else _clause_expr(rest, feat_of)
