@@ -15,7 +15,7 @@ from tvl_lsp.analysis.convert import convert_model
 from tvl_lsp.analysis.dimacs import parse_dimacs
 from tvl_lsp.analysis.engine import ModelAnalysis
 from tvl_lsp.analysis.formats import parse_any_model
-from tvl_lsp.cli import main
+from tvl_lsp.main import main
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).parent / "data"

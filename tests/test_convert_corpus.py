@@ -81,7 +81,7 @@ def test_uvl_twin_counts_like_its_dimacs_twin(models_dir: Path, name: str):
 
 
 def test_check_reports_the_dead_features_of_a_uvl_twin(models_dir: Path):
-    from tvl_lsp.check import check_document
+    from tvl_lsp.project.check import check_document
     path = models_dir / "uvl" / "busybox-1.18.0.uvl"
     out = check_document(str(path), timeout=120)
     dead = [d for d in out if d.code == "dead-feature"]

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from tvl_lsp.analysis.engine import ModelAnalysis
-from tvl_lsp.check import check_document
+from tvl_lsp.project.check import check_document
 from tvl_lsp.tvl import model as M
 from tvl_lsp.uvl import parse_uvl
 

@@ -110,7 +110,7 @@ def _or_tree(items: list[M.Expr], span: Span, path: str) -> M.Expr:
 def read_dimacs(text: str, path: str = "model.dimacs"):
     """The flat model of a DIMACS file and its diagnostics (malformed lines, names given to two
     variables); never raises on bad input."""
-    from ..diagnostics import Diagnostic, Related, Severity, register
+    from ..base.diagnostics import Diagnostic, Related, Severity, register
     errors: list = []
     model = dimacs_to_model(text, path, errors)
     syntax = register("syntax-error", Severity.ERROR, "the text does not follow the TVL grammar", "tvl")

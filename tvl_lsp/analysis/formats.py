@@ -15,7 +15,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from ..diagnostics import Diagnostic, Severity
+from ..base.diagnostics import Diagnostic, Severity
 from ..tvl.model import Model
 
 FORMATS = {".tvl": "tvl", ".uvl": "uvl", ".dimacs": "dimacs", ".cnf": "dimacs"}

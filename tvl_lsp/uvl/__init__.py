@@ -14,7 +14,7 @@ import gc
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from ..diagnostics import Diagnostic, Severity
+from ..base.diagnostics import Diagnostic, Severity
 from ..tvl.model import Model
 
 __all__ = ["parse_uvl", "UvlResult"]

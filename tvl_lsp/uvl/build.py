@@ -29,13 +29,12 @@ import os
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from ..diagnostics import Diagnostic, Related, Severity, register
-from ..text import LineIndex, Span
+from ..base.diagnostics import Diagnostic, Related, Severity, register
+from ..base.text import LineIndex, Span
 from ..tvl import model as M
 from ..tvl.parser import _single_file_span  # the hot-path Span maker (no dataclass __init__)
 from .lexer import Tok, TooManyTokens, tokenize
-from .parser import (RawAttr, RawFeature, RawFile, RawImport, RawRef, RawValue, StrLit, SyntaxIssue,
-                     parse_lines, _unquote)
+from .parser import RawFeature, RawFile, RawImport, RawValue, StrLit, parse_lines, _unquote
 
 E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFORMATION
 
@@ -99,7 +98,7 @@ class UvlBuilder:
     # ------------------------------------------------------------ diagnostics
     def diag(self, code: str, path: str, span: Span, msg: str, sev: Optional[Severity] = None,
              related=None, data=None, fixes=None) -> None:
-        from ..diagnostics import CODES
+        from ..base.diagnostics import CODES
         self.diags.append(Diagnostic(code, sev if sev is not None else CODES[code].severity, path, span, msg,
                                      related=list(related or []), data=data, fixes=list(fixes or [])))
 
@@ -373,7 +372,7 @@ class UvlBuilder:
 
     def _card_spaces(self, f: _File, tok: Tok) -> None:
         if " " in tok.value or "\t" in tok.value:
-            from ..diagnostics import Fix, TextEdit
+            from ..base.diagnostics import Fix, TextEdit
             tight = "".join(tok.value.split())
             sp = f.span(tok.start, tok.end)
             self.diag(C_SYNTAX, f.path, sp, f"UVL writes a cardinality without spaces: {tight}",
