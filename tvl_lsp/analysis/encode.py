@@ -419,6 +419,8 @@ class Encoding(DistributeMixin):
         v = self.var_of_feature
         for f in self.features:
             for c in f.constraints:
+                if getattr(c, "has_errors", False):
+                    continue  # the front end reported it: no guess at what it means
                 if c.kind == "ifIn":
                     prefix: list[Lit] = [-v[f]]
                 elif c.kind == "ifOut":
@@ -872,6 +874,8 @@ class Encoding(DistributeMixin):
         return term
 
     def _build_attr(self, a: M.Attribute, owner: Optional[M.Feature]):
+        if getattr(a, "has_errors", False):
+            raise NotEncodable("it has errors (see them above)")
         b = self.b
         base = self._attr_base(a)
         fv: Lit = self.var_of_feature.get(owner, True) if owner is not None else True

@@ -230,6 +230,13 @@ class ModelBuilder(ExprRules):
                               f"the domain of '{owner}' is {ty}: {what} is not an {ty} literal")
                     continue
                 key = float(it.value)
+                if lt == "int" and it.value == 0:
+                    # TVLParser v20100804 rejects the integer 0 in a set domain ("a set expression may
+                    # only contain simple values"), though not in an interval or a value
+                    self.diag(C_DOMAIN, it._s, it._e,
+                              f"the TVL reference parser does not accept 0 in a set domain ('{owner}'): leave the "
+                              f"domain out (the value parts already say it) or use an interval such as [0..n]")
+                    continue
             else:
                 if not (isinstance(it, m.Name) and len(it.parts) == 1):
                     self.diag(C_DOMAIN, it._s, it._e,
@@ -544,7 +551,10 @@ class ModelBuilder(ExprRules):
 
     def _attr_domain(self, a: m.Attribute, ra: RawAttr, name: str) -> None:
         base = self.base_type(a)
+        before = len(self.diags)
         vals = self.check_domain(base, ra.domain, name, None)
+        if any(d.severity == 1 for d in self.diags[before:]):
+            a.has_errors = True
         for v in vals:
             a.enum_values.append(m.EnumValue(v[0], v[1], self.smap.path(v[2]), a))
         td = a.type_decl
@@ -559,6 +569,8 @@ class ModelBuilder(ExprRules):
             if isinstance(e, m.SetLit):
                 out = []
                 for it in e.items:
+                    if isinstance(it, m.IntLit) and it.value == 0 and e is inner:
+                        continue  # the reference never checks the integer 0 against a domain
                     if isinstance(it, (m.IntLit, m.RealLit)):
                         out.append(float(it.value))
                     elif isinstance(it, m.Name):

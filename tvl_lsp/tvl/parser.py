@@ -843,6 +843,39 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                     what = (f"'{tok.value}'" if tok.type not in ("ID", "INT", "REAL", "STRING")
                             else f"{_disp(tok.type).split(' ', 1)[-1]} '{tok.value}'")
                     msg = f"unexpected {what}; expected {_expected(e.expected)}"
+                if tok.type == "RBRACE" and k > 0 and toks[k - 1].type == "SEMI" and "STRING" in e.expected \
+                        and (k - 1) not in patched and toks[k - 1].value:
+                    # data { "k" "v"; }: the reference takes no ';' after the last entry
+                    patched.add(k - 1)
+                    issues.append(SyntaxIssue("syntax-error", toks[k - 1].start, toks[k - 1].end,
+                                              "no ';' after the last entry of a data block (TVL separates "
+                                              "entries with ';')"))
+                    alive[k - 1] = False
+                    last_err = None
+                    continue
+                if tok.type == "STRING" and k > 0 and toks[k - 1].type == "STRING" and "SEMI" in e.expected \
+                        and k not in patched:
+                    patched.add(k)
+                    issues.append(SyntaxIssue("syntax-error", tok.start, tok.end,
+                                              "missing ';' between two entries of a data block"))
+                    toks.insert(k, Tok("SEMI", "", tok.start, tok.start))
+                    depth.insert(k, depth[k])
+                    alive.insert(k, True)
+                    patched = {i + 1 if i >= k else i for i in patched}
+                    last_err = None
+                    continue
+                if tok.type == "RBRACE" and "SEMI" in e.expected and k not in patched and k > 0 \
+                        and toks[k - 1].type != "SEMI":
+                    # 'B -> C }': the ';' is missing, not the statement: supply it (dropping the
+                    # statement would drop the block around it and cascade)
+                    patched.add(k)
+                    issues.append(SyntaxIssue("syntax-error", tok.start, tok.end, msg))
+                    toks.insert(k, Tok("SEMI", "", tok.start, tok.start))
+                    depth.insert(k, depth[k])
+                    alive.insert(k, True)
+                    patched = {i + 1 if i >= k else i for i in patched}
+                    last_err = None
+                    continue
                 if (tok.type in ("ID", "OPT", "SHARED") and k > 0 and toks[k - 1].type in ("ID", "RBRACE")
                         and ("COMMA" in e.expected or "SEMI" in e.expected) and k not in patched):
                     # a missing separator: report it and read it as if it were there

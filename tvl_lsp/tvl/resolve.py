@@ -18,6 +18,12 @@ class ExprRules:
 
     # ------------------------------------------------------------ phase 3: expressions
     def attr_values(self, f: Optional[m.Feature], a: m.Attribute, ra: RawAttr) -> None:
+        before = len(self.diags)
+        self._attr_values(f, a, ra)
+        if any(d.severity == 1 for d in self.diags[before:]):
+            a.has_errors = True  # reported: the analyses leave it out rather than guess
+
+    def _attr_values(self, f: Optional[m.Feature], a: m.Attribute, ra: RawAttr) -> None:
         base = self.base_type(a)
         for slot in ("value", "if_in_value", "if_out_value"):
             e = getattr(a, slot)
@@ -30,7 +36,7 @@ class ExprRules:
             if d is None:
                 continue
             dom = a.domain if a.domain is not None else (a.type_decl.domain if a.type_decl else None)
-            self.set_members(d, f, a)
+            self.set_members(d, f, a, report_out=False)
             if dom is not None and not self.is_restriction(dom, d):
                 self.diag(C_OUT_OF_DOMAIN, d._s, d._e, f"this set is not inside the domain of '{a.name}'")
 
@@ -67,6 +73,8 @@ class ExprRules:
                 return False
             if not isinstance(e, (m.IntLit, m.RealLit)):
                 return True
+            if isinstance(e, m.IntLit) and e.value == 0:
+                return True  # the reference never checks the integer 0 against a domain
             v = float(e.value)
             if isinstance(dom, m.SetLit):
                 return any(isinstance(x, (m.IntLit, m.RealLit)) and float(x.value) == v for x in dom.items)
@@ -87,6 +95,7 @@ class ExprRules:
         c = m.Constraint(expr=rc.expr, kind=rc.kind, owner=f, span=self.sp(rc.start, rc.end),
                          path=self.smap.path(rc.start))
         f.constraints.append(c)
+        before = len(self.diags)
         t = self.expr(rc.expr, f)
         if t is not None and t != "bool":
             if isinstance(rc.expr, m.Name) and getattr(rc.expr, "enum_fallback", False) and rc.expr.target is None:
@@ -94,6 +103,9 @@ class ExprRules:
             else:
                 self.diag(C_TYPE, rc.expr._s, rc.expr._e,
                           f"a constraint must be a boolean expression; this one is {self._tname(t)}")
+        if any(d.severity == 1 for d in self.diags[before:]):
+            # reported: the analyses leave it out rather than guess what it means
+            c.has_errors = True
 
     @staticmethod
     def _tname(t: Optional[str]) -> str:
@@ -175,6 +187,7 @@ class ExprRules:
             n.target = evs[0] if evs else None
             pts.append(n.target)
             n.enum_fallback = True
+            n.context_feature = cur
             if n.target is None:  # for a "did you mean" if it turns out to be used as something else
                 n.fallback_candidates = ([x.name for x in cur.attributes] if cur is not None else []) \
                     + list(self.constants) + list(self.table)
@@ -374,19 +387,27 @@ class ExprRules:
             if op in self.CMP_OPS:
                 if l.type is None or r.type is None:
                     return "bool"
+                if self._two_enum_values(node, l, r) or self._domains_differ(node, l, r):
+                    return "bool"
                 lb, rb = l.type.split(":")[0], r.type.split(":")[0]
                 if lb == "enum" and rb == "enum":
                     return "bool"
-                self._need(l, "num", f"'{op}'") and self._need(r, "num", f"'{op}'")
+                if self._need(l, "num", f"'{op}'") and self._need(r, "num", f"'{op}'") \
+                        and not self._two_numbers(node, l, r):
+                    self._domain_compare(l, r)
+                    self._domain_compare(r, l)
                 return "bool"
             if op in ("==", "!="):
                 if l.type is None or r.type is None:
+                    return "bool"
+                if self._two_enum_values(node, l, r) or self._domains_differ(node, l, r):
                     return "bool"
                 for side, other in ((l, r), (r, l)):
                     if self._unresolved(side) and not other.type.startswith("enum"):
                         self._report_unresolved(side)
                         return "bool"
-                self._unify(node, l.type, r.type, f"'{op}'")
+                if self._unify(node, l.type, r.type, f"'{op}'") is not None and self._two_numbers(node, l, r):
+                    return "bool"
                 self._domain_compare(l, r)
                 self._domain_compare(r, l)
                 return "bool"
@@ -399,6 +420,62 @@ class ExprRules:
         return None
 
     @staticmethod
+    def _enum_literal(node) -> bool:
+        return isinstance(node, m.Name) and getattr(node, "enum_fallback", False)
+
+    def _two_enum_values(self, node: m.Binary, l: m.Expr, r: m.Expr) -> bool:
+        """The reference reads a single name that is no attribute of the constraint's feature,
+        no constant and no feature as an enum value -- and rejects comparing two enum values
+        ("You cannot compare two enum values").  Reported once: on the names that are no enum
+        value (an attribute of another feature, or nothing), else on the comparison."""
+        if not (self._enum_literal(l) and self._enum_literal(r)):
+            return False
+        unresolved = [x for x in (l, r) if x.target is None]
+        for x in unresolved:
+            self._report_unresolved(x)
+        if not unresolved:
+            self._bad(node, f"'{l.text} {node.op} {r.text}' compares two enum values (TVL reads a name that is no "
+                            "attribute of this feature as an enum value): one side must be an attribute")
+        return True
+
+    def _two_numbers(self, node: m.Binary, l: m.Expr, r: m.Expr) -> bool:
+        """The reference compares numbers only when one side names an attribute ("you cannot
+        compare two numerical values": 1 + 1 == 2, p + 1 <= 2, abs(p) < 3, sum(...) <= 10)."""
+        if not (l.type and r.type and l.type.split(":")[0] in ("int", "real") and r.type.split(":")[0] in ("int", "real")):
+            return False
+        if any(isinstance(x, m.Name) and isinstance(x.target, m.Attribute) for x in (l, r)):
+            return False
+        self._bad(node, f"'{node.op}' compares two computed numbers: TVL compares a number only with an attribute "
+                        "(write the computation into an attribute, e.g. int total is ...;, and compare that)")
+        return True
+
+    def _domains_differ(self, node: m.Binary, l: m.Expr, r: m.Expr) -> bool:
+        """The reference compares two attributes only when their domains are the same: enum
+        values in the same order, or the same set of numbers ("haven't the same values domain")."""
+        if not (isinstance(l, m.Name) and isinstance(l.target, m.Attribute)
+                and isinstance(r, m.Name) and isinstance(r.target, m.Attribute)):
+            return False
+        a, b = l.target, r.target
+        ba, bb = self.base_type(a), self.base_type(b)
+        if ba == "enum" and bb == "enum":
+            va = [v.name for v in (a.enum_values or (a.type_decl.enum_values if a.type_decl else []))]
+            vb = [v.name for v in (b.enum_values or (b.type_decl.enum_values if b.type_decl else []))]
+            if not va or not vb or va == vb:
+                return False
+            self._bad(node, f"'{l.text}' and '{r.text}' cannot be compared: their enum values differ "
+                            f"({{{', '.join(va)}}} and {{{', '.join(vb)}}}; TVL compares enum attributes only when "
+                            "they list the same values in the same order)")
+            return True
+        if ba in ("int", "real") and bb in ("int", "real"):
+            da, db = _values_of(self.domain_of(a)), _values_of(self.domain_of(b))
+            if da is None or db is None or da == db:
+                return False
+            self._bad(node, f"'{l.text}' and '{r.text}' cannot be compared: their domains differ (TVL compares two "
+                            "number attributes only when they have the same domain)")
+            return True
+        return False
+
+    @staticmethod
     def _unresolved(node) -> bool:
         """A single name the reference would read as an enum value, though no enum has it."""
         return isinstance(node, m.Name) and getattr(node, "enum_fallback", False) and node.target is None
@@ -409,6 +486,19 @@ class ExprRules:
                          f"'{node.text}' is a feature, but TVL reads a name that does not begin with an "
                          f"upper-case letter as an attribute or an enum value: rename the feature to use it "
                          f"in a constraint", data={"name": node.text})
+            return
+        owners = [f for f in self.model.features if any(a.name == node.text for a in f.attributes)]
+        if owners:
+            cur = getattr(node, "context_feature", None)
+            o = owners[0]
+            ref = ("parent." if cur is not None and cur.parent is o else
+                   "root." if o is self.root else self.non_ambiguous_path(o) + ".") + node.text
+            where = f"not of {cur.name}" if cur is not None else "not visible here"
+            self.diag_at(C_UNKNOWN, node.path, node.span,
+                         f"'{node.text}' is an attribute of {o.name}, {where}: TVL reads it here as an enum value; "
+                         f"write '{ref}'", data={"name": node.text, "suggestions": [ref]},
+                         related=[Related(a.path, a.name_span, f"{o.name}.{a.name}")
+                                  for a in o.attributes if a.name == node.text])
             return
         cands = getattr(node, "fallback_candidates", None) or (list(self.table) + list(self.constants))
         self.diag_at(C_UNKNOWN, node.path, node.span,
@@ -443,7 +533,8 @@ class ExprRules:
                     val_side.target = ev
                     val_side.part_targets = [ev]
 
-    def set_members(self, s: m.Expr, cur, attr: Optional[m.Attribute], left_type: Optional[str] = None) -> None:
+    def set_members(self, s: m.Expr, cur, attr: Optional[m.Attribute], left_type: Optional[str] = None,
+                    report_out: bool = True) -> None:
         s.type = "set"
         items = s.items if isinstance(s, m.SetLit) else [s.lo, s.hi] if isinstance(s, m.RangeLit) else []
         for it in items:
@@ -467,8 +558,10 @@ class ExprRules:
                         continue
                     if isinstance(it, (m.IntLit, m.RealLit)) or (isinstance(it, m.Name) and getattr(it, "enum_fallback", False)):
                         if not self.value_in_domain(it, it.type.split(":")[0], dom, base):
-                            self.diag(C_OUT_OF_DOMAIN, it._s, it._e,
-                                      f"'{it.text if isinstance(it, m.Name) else it.value}' is not in the domain of '{attr.name}'")
+                            if report_out:
+                                self.diag(C_OUT_OF_DOMAIN, it._s, it._e,
+                                          f"'{it.text if isinstance(it, m.Name) else it.value}' is not in the domain "
+                                          f"of '{attr.name}'")
                         elif isinstance(it, m.Name):
                             ev = next((v for v in (attr.enum_values or (attr.type_decl.enum_values if attr.type_decl else [])) if v.name == it.text), None)
                             if ev is not None:
@@ -520,3 +613,24 @@ class ExprRules:
         if not ok:
             return None
         return "real" if any(t == "real" for t in ts) else "int"
+
+
+def _values_of(dom: Optional[m.Expr]):
+    """A number domain as a comparable value: a frozenset of its values, ('range', lo, hi) for a
+    long or unbounded interval; None when unknown (no domain, or not made of literals)."""
+    if isinstance(dom, m.SetLit):
+        vals = []
+        for x in dom.items:
+            if not isinstance(x, (m.IntLit, m.RealLit)):
+                return None
+            vals.append(float(x.value))
+        return frozenset(vals)
+    if isinstance(dom, m.RangeLit):
+        lo = None if getattr(dom.lo, "star", False) else getattr(dom.lo, "value", None)
+        hi = None if getattr(dom.hi, "star", False) else getattr(dom.hi, "value", None)
+        if lo is None or (hi is not None and not isinstance(hi, (int, float))) or not isinstance(lo, (int, float)):
+            return None
+        if hi is not None and float(hi) - float(lo) <= 4096 and float(lo).is_integer():
+            return frozenset(float(v) for v in range(int(lo), int(hi) + 1))
+        return ("range", float(lo), None if hi is None else float(hi))
+    return None
