@@ -4,7 +4,6 @@ configurator, and a generic launch file paired with a .uvl model by a HAROS proj
 from __future__ import annotations
 
 import asyncio
-from pathlib import Path
 
 import pytest
 import pytest_lsp

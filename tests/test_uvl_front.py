@@ -4,7 +4,6 @@ brute-force enumeration written independently here), exact diagnostics and error
 from __future__ import annotations
 
 import itertools
-import json
 from pathlib import Path
 
 import pytest

@@ -185,7 +185,7 @@ class UvlBuilder:
             return self.model
         raw = main.raw
         if raw.roots:
-            self.model.root = self._tree(main, raw.roots[0], None, None)
+            self.model.root = self._tree(main, raw.roots[0], None)
             for extra in raw.roots[1:]:
                 self.diag(C_ROOTS, main.path, main.span(extra.ref.start, extra.ref.end),
                           f"a UVL model has one root feature, '{main.root.name if main.root else '?'}': "
@@ -238,7 +238,7 @@ class UvlBuilder:
             i += hit[1]
         return sc, i, False
 
-    def _tree(self, f: _File, rf: RawFeature, parent: Optional[M.Feature], group: Optional[M.Group]) -> Optional[M.Feature]:
+    def _tree(self, f: _File, rf: RawFeature, parent: Optional[M.Feature]) -> Optional[M.Feature]:
         """Build ``rf`` and everything below it, without recursion: the features in source
         order first, then their groups."""
         made: dict[int, M.Feature] = {}

@@ -400,9 +400,18 @@ class _Builder(Transformer):
     def name(self, c):
         r: RawRef = c[0]
         ctx = self.ctx
-        node = m.Name([_unquote(t) for t in r.parts], part_spans=[ctx.span(t.start, t.end) for t in r.parts])
-        node.quoted = [t.type == "QID" for t in r.parts]
-        node.tokens = r.parts
+        parts = r.parts
+        if len(parts) == 1:  # the common case: the name's span is its part's
+            t = parts[0]
+            sp = ctx.span(t.start, t.end)
+            node = m.Name([t.value[1:-1] if t.type == "QID" else t.value], part_spans=[sp])
+            node.span = sp
+            node.path = ctx.path
+            node._s = t.start
+            node._e = t.end
+            node._d = 1
+            return node
+        node = m.Name([_unquote(t) for t in parts], part_spans=[ctx.span(t.start, t.end) for t in parts])
         return self._mk(node, r.start, r.end, 1)
 
     def int_lit(self, c):
@@ -429,9 +438,7 @@ class _Builder(Transformer):
         if op.type in ("AND", "OR") and isinstance(left, m.Binary) and left.op == _OPS[op.type] \
                 and not getattr(left, "parens", 0):
             d = max(getattr(left, "_d", 1), getattr(right, "_d", 1) + 1)  # a flat chain is not nesting
-        node = m.Binary(_OPS[op.type], left, right)
-        node.op_span = self.ctx.span(op.start, op.end)
-        return self._mk(node, _s(left), _e(right), d)
+        return self._mk(m.Binary(_OPS[op.type], left, right), _s(left), _e(right), d)
 
     def unop(self, c):
         op, operand = c
