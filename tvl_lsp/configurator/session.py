@@ -212,7 +212,8 @@ class Session:
         cache: dict = {}
 
         def node(f, shared: bool = False, optional: bool = False) -> dict:
-            g = f.group
+            groups = f.groups  # (a UVL feature may have several: its children come from all)
+            g = groups[0] if groups else None
             out = {"id": self.analysis.name(f), "name": f.name, "longName": f.long_name,
                    "optional": optional, "location": self._loc(f.path, f.name_span)}
             if shared:
@@ -221,10 +222,10 @@ class Session:
                 return out
             if g is not None and g.children:
                 hi = g.hi
-                text = g.kind if g.kind != "card" else f"[{g.lo}..{'*' if hi is None else hi}]"
+                text = " + ".join(x.text for x in groups)
                 out["group"] = {"kind": g.kind, "lo": g.lo, "hi": hi, "text": text}
             out["constraints"] = [source_text(self.model, c.path, c.span, 120, cache) for c in f.constraints]
-            out["children"] = [node(c.feature, c.shared, c.optional) for c in (g.children if g else [])]
+            out["children"] = [node(c.feature, c.shared, c.optional) for x in groups for c in x.children]
             return out
 
         return node(self.model.root)
