@@ -414,7 +414,8 @@ class ModelBuilder(ExprRules):
             if name in names:
                 prev = names[name]
                 self.diag(C_DUP_FEATURE, nt.start, nt.end,
-                          f"feature '{f.name}' already has a child named '{name}'; this one is ignored",
+                          f"feature '{f.name}' already has a child named '{name}' (TVL rejects a model whose "
+                          f"feature has two children with one name); this one is ignored",
                           related=[Related(prev.path, prev.feature.name_span, "the first one")])
                 continue
             child = self._new_feature(name, nt.start, nt.end, rc.start, rc.end, f)
