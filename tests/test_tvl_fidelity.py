@@ -72,12 +72,12 @@ CASES = [
      [(3, "unknown-name", "'zzz'")]),
     ("in-set", "root A { enum c in {r, g}; enum d in {r}; c in {r}; }", []),
     # --- numbers are compared only with an attribute, and a value with the attribute's domain
-    ("computed-equal", "root A { group allOf { opt B } 1 + 1 == 2; }", [(1, "type-error", "two computed numbers")]),
+    ("computed-equal", "root A { group allOf { opt B } 1 + 1 == 2; }", []),
     ("ternary-sum", "root A { group allOf { opt B, opt C } (B ? 1 : 0) + (C ? 1 : 0) <= 1; }",
-     [(1, "type-error", "two computed numbers")]),
-    ("abs-compared", "root A { int p in {1, 2}; abs(p) <= 2; }", [(1, "type-error", "two computed numbers")]),
+     []),
+    ("abs-compared", "root A { int p in {1, 2}; abs(p) <= 2; }", []),
     ("sum-children", "root A { group allOf { B { int price is 3; } } sum(children.price) <= 10; }",
-     [(1, "type-error", "two computed numbers")]),
+     []),
     ("attribute-and-computed", "root A { int p in {1, 2}; int q in {1, 2}; p + 1 <= q; }", []),
     ("attribute-equals-computed", "root A { int p in {1, 2}; p == 1 + 1; }", []),
     ("computed-attribute", "root A { int p in {1, 2}; int q is p + 1; q <= 3; }", []),
@@ -86,22 +86,32 @@ CASES = [
     # --- data blocks: entries separated by ';', none after the last
     ("data-one", 'root A { data { "k" "v" } }', []),
     ("data-two", 'root A { data { "k" "v"; "k2" "v2" } }', []),
-    ("data-trailing-semicolon", 'root A { data { "k" "v"; } }', [(1, "syntax-error", "no ';' after the last entry")]),
+    ("data-trailing-semicolon", 'root A { data { "k" "v"; } }', []),
     ("data-no-separator", 'root A { data { "k" "v" "k2" "v2" } }', [(1, "syntax-error", "missing ';' between")]),
     ("data-empty", 'root A { data { } }', [(1, "syntax-error", "expected a string")]),
     # --- recovery: a missing ';' in the root's body is one error, later mistakes still reported
     ("missing-semicolon", "root A {\n  group allOf { B, C }\n  B -> C\n}\nB {\n  group allOf { D }\n}\n"
                           "C {\n  group allOf { E }\n  E -> Zzz;\n}",
-     [(4, "syntax-error", "missing ';' before '}'"), (10, "unknown-name", "'Zzz'")]),
+     [(3, "syntax-error", "missing ';' after 'C' at the end of the line"), (10, "unknown-name", "'Zzz'")]),
     ("several-mistakes", "root Robot {\n  group allOf { Base, opt Arm Camera, opt Lidar }\n"
                          "  enum mode in {fast, slow};\n  int speed in {1, 2, 3};\n  Arm -> Camera\n}\n"
                          "Base {\n  group oneOf { Wheels, Tracks }\n  parent.mode == fast;\n}\n"
                          "Arm {\n  int weight is true;\n  Arm -> Gripper;\n}\nLidar {\n  speed > 2 && Camera;\n}",
-     [(2, "syntax-error", "missing ','"), (6, "syntax-error", "missing ';'"), (12, "type-error", "'weight' is int"),
+     [(2, "syntax-error", "missing ','"), (5, "syntax-error", "missing ';' after 'Camera'"), (12, "type-error", "'weight' is int"),
       (13, "unknown-name", "'Gripper'"), (16, "unknown-name", "'speed' is an attribute of Robot")]),
 ]
 
 VERDICTS = json.loads(VERDICTS_FILE.read_text()) if VERDICTS_FILE.exists() else {}
+
+
+# Where tvl-lsp deliberately accepts what the reference rejects (the team's choice, recorded in
+# tests/data/tvl_reference_fixtures.json as diverge_arithmetic_comparison.tvl: such constraints are
+# counted exactly): no error, but a warning that says the reference rejects it, at the place.
+DIVERGES = {
+    "computed-equal": "two computed numbers", "ternary-sum": "two computed numbers",
+    "abs-compared": "two computed numbers", "sum-children": "two computed numbers",
+    "data-trailing-semicolon": "after the last entry of a data block",
+}
 
 
 def test_every_case_has_a_recorded_reference_verdict():
@@ -113,6 +123,11 @@ def test_like_the_reference(name, text, expected):
     res = parse_model(text, f"/tmp/{name}.tvl")
     errs = [d for d in res.diagnostics if d.severity == Severity.ERROR]
     # the reference's verdict
+    if name in DIVERGES:
+        assert VERDICTS[name] == "reject" and errs == []
+        warns = [d for d in res.diagnostics if d.code == "reference-rejects"]
+        assert len(warns) == 1 and DIVERGES[name] in warns[0].message and warns[0].severity == Severity.WARNING
+        return
     assert (VERDICTS[name] == "accept") == (errs == [])
     # one error per mistake, where it is
     assert [(d.span.start.line + 1, d.code) for d in errs] == [(l, c) for l, c, _ in expected]
@@ -153,3 +168,68 @@ if __name__ == "__main__":  # pragma: no cover - records the reference's verdict
         out[name] = "accept" if lines and lines[0].startswith("Feature model valid") else "reject"
         print(name, out[name], (r.stdout.splitlines() + [""])[:2])
     VERDICTS_FILE.write_text(json.dumps(out, indent=1, sort_keys=True) + "\n")
+
+
+# Four independent mistakes on four lines (a misspelt name, a ';' missing at the end of a line, a ';'
+# missing after an attribute, an unknown name): exactly four errors, each on its own mistake (the
+# reference rejects the file at its first one), and the rest of the model analysed.
+FOUR = """root Robot {
+  group allOf {
+    Base,
+    opt Lidar,
+    opt Camera {
+      int fps in [10..60];
+    },
+    Drive {
+      group oneOf { Diff, Omni }
+    }
+  }
+  Lidar -> Camer;
+  Camera -> Lidar
+  Diff -> !Omni;
+}
+Base {
+  int weight is 3
+  bool heavy is true;
+}
+Drive {
+  Omni -> Lidar;
+  Diff -> Sonar;
+}
+"""
+
+# Separators missing at line ends, in a group (',') and in a body (';'), with a cardinality group
+SEPARATORS = """root Robot {
+  group allOf {
+    Base,
+    opt Lidar
+    opt Camera {
+      int fps in [10..60]
+      bool hd;
+    },
+    Drive {
+      group [1..1] {
+        Diff
+        Omni
+      }
+    }
+  }
+  Lidar -> Camera
+}
+"""
+
+
+@pytest.mark.parametrize("text,expected", [
+    (FOUR, [("unknown-name", "12:12-12:17"), ("syntax-error", "13:13-13:18"),
+            ("syntax-error", "17:17-17:18"), ("unknown-name", "22:11-22:16")]),
+    (SEPARATORS, [("syntax-error", "4:9-4:14", "missing ','"), ("syntax-error", "6:25-6:26", "missing ';'"),
+                  ("syntax-error", "11:9-11:13", "missing ','"), ("syntax-error", "16:12-16:18", "missing ';'")]),
+], ids=["four-mistakes", "line-end-separators"])
+def test_one_error_per_mistake_at_its_range(text, expected):
+    res = parse_model(text, "/tmp/several.tvl")
+    errs = [d for d in res.diagnostics if d.severity == Severity.ERROR]
+    assert [(d.code, str(d.span)) for d in errs] == [e[:2] for e in expected], [str(d.span) + d.message for d in errs]
+    for d, e in zip(errs, expected):
+        assert len(e) < 3 or e[2] in d.message
+    # the rest is analysed: the model is whole
+    assert {f.name for f in res.model.features} >= {"Robot", "Base", "Lidar", "Camera", "Drive", "Diff", "Omni"}

@@ -18,6 +18,7 @@ from . import model
 from .lexer import Tok, TooManyTokens, tokenize
 from .model import Model
 from .parser import SourceMap, parse_tokens
+from .codes import C_REF_REJECTS
 
 __all__ = ["parse_model", "TvlResult", "Model", "model", "MAX_FILE_SIZE", "MAX_TOKENS"]
 
@@ -85,6 +86,10 @@ def _parse_model(text: str, path: str, read_file) -> TvlResult:
     _departures(toks, smap, diags)
     items, issues = parse_tokens(toks, smap)
     for iss in issues:
+        if iss.code == "reference-rejects":
+            diags.append(Diagnostic(C_REF_REJECTS, Severity.WARNING, smap.path(iss.start),
+                                    smap.span(iss.start, iss.end), iss.message))
+            continue
         code = C_TOO_DEEP if iss.code == "nesting-too-deep" else C_SYNTAX
         diags.append(Diagnostic(code, E, smap.path(iss.start), smap.span(iss.start, iss.end), iss.message))
     from .build import ModelBuilder

@@ -35,3 +35,4 @@ C_TYPE_AS_VALUE = register("type-as-value", E, "a type name used as a value", "t
 C_BAD_TYPE_DECL = register("invalid-type-declaration", E, "a type declaration the reference does not allow", "tvl")
 C_ENUM_NO_VALUES = register("enum-without-values", W, "an enum attribute without its values", "tvl")
 C_DUP_PART = register("duplicate-attribute-part", E, "an attribute gives its value or domain twice", "tvl")
+C_REF_REJECTS = register("reference-rejects", W, "accepted and analysed, but the TVL reference parser rejects it", "tvl")

@@ -30,6 +30,7 @@ from . import model as m
 from .lexer import Tok
 from .raw import (RawAttr, RawBody, RawChild, RawConst, RawConstraint, RawData, RawFeatureDecl, RawGroup, RawType,
                   SyntaxIssue)
+from .recovery import _block_range, _find, _item_range, _prev_alive, _separator, _statement_range
 
 MAX_CHAIN = 5000  # terms of a flat `a && b && ...` / `a || b || ...` chain
 MAX_DEPTH = 200  # expression / feature nesting handled (deeper input is reported, not crashed on)
@@ -847,9 +848,9 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                         and (k - 1) not in patched and toks[k - 1].value:
                     # data { "k" "v"; }: the reference takes no ';' after the last entry
                     patched.add(k - 1)
-                    issues.append(SyntaxIssue("syntax-error", toks[k - 1].start, toks[k - 1].end,
-                                              "no ';' after the last entry of a data block (TVL separates "
-                                              "entries with ';')"))
+                    issues.append(SyntaxIssue("reference-rejects", toks[k - 1].start, toks[k - 1].end,
+                                              "';' after the last entry of a data block: tvl-lsp reads it, but "
+                                              "the TVL reference parser rejects it (TVL separates entries with ';')"))
                     alive[k - 1] = False
                     last_err = None
                     continue
@@ -859,6 +860,27 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                     issues.append(SyntaxIssue("syntax-error", tok.start, tok.end,
                                               "missing ';' between two entries of a data block"))
                     toks.insert(k, Tok("SEMI", "", tok.start, tok.start))
+                    depth.insert(k, depth[k])
+                    alive.insert(k, True)
+                    patched = {i + 1 if i >= k else i for i in patched}
+                    last_err = None
+                    continue
+                j = _prev_alive(alive, k)
+                if (j is not None and k not in patched and tok.type != "$END"
+                        and ("SEMI" in e.expected or "COMMA" in e.expected)
+                        and toks[j].type not in ("SEMI", "COMMA", "LBRACE", "LPAR", "LBRACK")
+                        and toks[j].value != ""
+                        and smap.span(toks[j].end, tok.start).start.line < smap.span(toks[j].end, tok.start).end.line):
+                    # the line before ends without its ';' (or ','): report it where it is missing,
+                    # at the end of that line, and read on as if it were there
+                    sep = _separator(toks, depth, alive, k, e.expected)
+                    mark = ';' if sep == "SEMI" else ','
+                    prev = toks[j]
+                    patched.add(k)
+                    what = prev.value if len(prev.value) <= 30 else prev.value[:27] + "..."
+                    issues.append(SyntaxIssue("syntax-error", prev.start, prev.end,
+                                              f"missing '{mark}' after '{what}' at the end of the line"))
+                    toks.insert(k, Tok(sep, "", prev.end, prev.end))
                     depth.insert(k, depth[k])
                     alive.insert(k, True)
                     patched = {i + 1 if i >= k else i for i in patched}
@@ -908,76 +930,3 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                     alive[i] = False
         issues.extend(ctx.issues)
         return [], issues
-
-
-def _find(ltoks, tok) -> Optional[int]:
-    lo, hi = 0, len(ltoks) - 1
-    sp = tok.start
-    while lo <= hi:
-        mid = (lo + hi) // 2
-        s = ltoks[mid].start
-        if s == sp:
-            return mid
-        if s < sp:
-            lo = mid + 1
-        else:
-            hi = mid - 1
-    return None
-
-
-def _statement_range(toks, depth, alive, k) -> tuple[int, int]:
-    d = depth[k]
-    a = k
-    while a > 0:
-        j = a - 1
-        if not alive[j]:
-            a = j
-            continue
-        t = toks[j].type
-        if depth[j] == d and t in ("SEMI", "RBRACE", "LBRACE", "COMMA"):
-            break
-        if depth[j] < d:  # the '{' opening our block
-            break
-        a = j
-    b = k
-    n = len(toks)
-    while b < n:
-        t = toks[b].type
-        if depth[b] == d and t == "SEMI":
-            break
-        if t == "RBRACE" and depth[b] < d:
-            b -= 1
-            break
-        if depth[b] == d and t == "RBRACE" and b > k:
-            # a '}' closing something we were inside of at the same level: keep it
-            break
-        b += 1
-    return a, min(b, n - 1)
-
-
-def _block_range(toks, depth, k) -> tuple[int, int]:
-    """The construct whose block the '}' at ``k`` closes: from its statement start to ``k``."""
-    d = depth[k]  # depth of the '}' (after closing) == depth of its '{'
-    j = k - 1
-    while j >= 0 and not (toks[j].type == "LBRACE" and depth[j] == d):
-        j -= 1
-    if j < 0:
-        return k, k
-    a = j
-    while a > 0:
-        i = a - 1
-        if depth[i] < d or (depth[i] == d and toks[i].type in ("SEMI", "RBRACE", "LBRACE", "COMMA")):
-            break
-        a = i
-    return a, k
-
-
-def _item_range(toks, depth, alive, k) -> tuple[int, int]:
-    a = k
-    while a > 0 and not (depth[a - 1] == 0 and toks[a - 1].type in ("SEMI", "RBRACE")):
-        a -= 1
-    b = k
-    n = len(toks)
-    while b < n - 1 and not (depth[b] == 0 and toks[b].type in ("SEMI", "RBRACE") and b >= k):
-        b += 1
-    return a, b

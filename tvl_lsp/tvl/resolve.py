@@ -9,7 +9,7 @@ from typing import Optional
 
 from ..base.diagnostics import Related
 from . import model as m
-from .codes import C_UNKNOWN, C_AMBIGUOUS, C_TYPE, C_OUT_OF_DOMAIN, C_PARENT_SHARED, C_TYPE_AS_VALUE
+from .codes import C_UNKNOWN, C_AMBIGUOUS, C_TYPE, C_OUT_OF_DOMAIN, C_PARENT_SHARED, C_TYPE_AS_VALUE, C_REF_REJECTS
 from .raw import RawAttr, RawConstraint
 
 
@@ -445,9 +445,13 @@ class ExprRules:
             return False
         if any(isinstance(x, m.Name) and isinstance(x.target, m.Attribute) for x in (l, r)):
             return False
-        self._bad(node, f"'{node.op}' compares two computed numbers: TVL compares a number only with an attribute "
-                        "(write the computation into an attribute, e.g. int total is ...;, and compare that)")
-        return True
+        # the team's choice (tests/data/tvl/reference/diverge_arithmetic_comparison.tvl): analysed and
+        # counted, with a warning for models that must also pass the reference
+        self.diag(C_REF_REJECTS, node._s, node._e,
+                  f"'{node.op}' compares two computed numbers: tvl-lsp analyses it, but the TVL reference parser "
+                  "rejects it (\"you cannot compare two numerical values\"); for a model it must read too, write "
+                  "the computation into an attribute (e.g. int total is ...;) and compare that")
+        return False
 
     def _domains_differ(self, node: m.Binary, l: m.Expr, r: m.Expr) -> bool:
         """The reference compares two attributes only when their domains are the same: enum
