@@ -58,6 +58,21 @@ def _locked(fn):
     return wrapper
 
 
+def _reported(e: Element) -> bool:
+    """An attribute value or constraint the front end has reported as an error (a value outside its
+    domain): encoded, but what it causes is not reported again."""
+    return e.kind in ("attribute", "constraint") and getattr(e.obj, "reported_error", False)
+
+
+def _impossible_group(e: Element, fmt: str) -> bool:
+    """A group whose bounds the front end rejects: lower above upper (TVL, UVL), or above its number of
+    children (TVL's cardinality-exceeds-children; in UVL that is an anomaly, not an error)."""
+    g = e.obj
+    if e.kind != "group-lower" or not isinstance(g, M.Group):
+        return False
+    return (g.hi is not None and g.lo > g.hi) or (fmt == "tvl" and g.lo > len(g.children))
+
+
 class ModelAnalysis:
     def __init__(self, model: M.Model, encoding: Optional[Encoding] = None):
         self._lock = threading.RLock()
@@ -174,6 +189,10 @@ class ModelAnalysis:
             rpath = root.path if root else self.model.path
             rspan = root.name_span if root else None
             from ..base.text import ZERO_SPAN
+            if ex is not None and any(_impossible_group(e, self.model.format) or _reported(e) for e in ex.elements):
+                # the front end has reported the group's bounds as an error already (cardinality-bounds,
+                # cardinality-exceeds-children): one error for one mistake
+                return out
             out.append(Diagnostic(VOID_MODEL, Severity.ERROR, rpath, rspan or ZERO_SPAN,
                                   "This feature model has no product: no selection of features satisfies it."
                                   + because(ex), related=related(ex)))
@@ -188,6 +207,8 @@ class ModelAnalysis:
         v = enc.var_of_feature
         for f in an.dead():
             ex = explain([v[f]])
+            if ex is not None and any(_reported(e) for e in ex.elements):
+                continue  # caused by a value the front end reported as an error
             out.append(Diagnostic(DEAD_FEATURE, Severity.WARNING, f.path, f.name_span,
                                   f"Feature {self.name(f)} is dead: no product can select it." + because(ex),
                                   related=related(ex), data={"feature": self.name(f)}))

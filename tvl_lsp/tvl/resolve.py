@@ -20,8 +20,13 @@ class ExprRules:
     def attr_values(self, f: Optional[m.Feature], a: m.Attribute, ra: RawAttr) -> None:
         before = len(self.diags)
         self._attr_values(f, a, ra)
-        if any(d.severity == 1 for d in self.diags[before:]):
+        errs = [d for d in self.diags[before:] if d.severity == 1]
+        if any(d.code != C_OUT_OF_DOMAIN for d in errs):
             a.has_errors = True  # reported: the analyses leave it out rather than guess
+        elif errs:
+            # a value outside the domain is well defined: it makes the feature dead (counts say so),
+            # but the anomalies it causes are not reported a second time
+            a.reported_error = True
 
     def _attr_values(self, f: Optional[m.Feature], a: m.Attribute, ra: RawAttr) -> None:
         base = self.base_type(a)
@@ -103,9 +108,12 @@ class ExprRules:
             else:
                 self.diag(C_TYPE, rc.expr._s, rc.expr._e,
                           f"a constraint must be a boolean expression; this one is {self._tname(t)}")
-        if any(d.severity == 1 for d in self.diags[before:]):
+        errs = [d for d in self.diags[before:] if d.severity == 1]
+        if any(d.code != C_OUT_OF_DOMAIN for d in errs):
             # reported: the analyses leave it out rather than guess what it means
             c.has_errors = True
+        elif errs:
+            c.reported_error = True  # encoded, but what it causes is not reported a second time
 
     @staticmethod
     def _tname(t: Optional[str]) -> str:
