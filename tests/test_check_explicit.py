@@ -52,13 +52,12 @@ def test_explicit_xml_that_is_not_a_launch_file_is_reported(run, tmp_path: Path)
 
 
 @pytest.mark.parametrize("name,content,taken_to_be", [
-    ("notes.txt", "hello\n", "taken to be a .txt file; --check reads only TVL models (.tvl), launch files"),
+    ("notes.txt", "hello\n", "taken to be a .txt file; --check reads only models (.tvl, .uvl, .dimacs), launch files"),
     ("README", "hello\n", "taken to be a file without a suffix; --check reads only"),
     ("params.yaml", "rate: 10\n", "taken to be a plain YAML file, not a HAROS project file: it has no "
                                    "top-level `configurations:`"),
     ("package.xml", "<package format='2'><name>p</name></package>\n",
      "taken to be a catkin package manifest: it is read for package names, not checked"),
-    ("robot.dimacs", "p cnf 1 0\n", "taken to be a DIMACS CNF model: `tvl-lsp count` reads it, --check does not"),
     ("bringup.launch.py", "from launch import LaunchDescription\n", "taken to be a ROS 2 Python launch file"),
     ("blob.bin", b"\x00\x01\x02", "taken to be a binary file; --check reads only"),
 ])
@@ -95,3 +94,13 @@ def test_folder_walk_finds_rostest_and_xml_launch_files_and_counts_the_other_xml
     assert "bringup.xml" in r.stdout and "missing-attribute" in r.stdout
     assert "ok.test" not in r.stdout
     assert "2 file(s) checked; 1 XML file(s) skipped: their root element is not <launch>" in r.stderr
+
+
+@pytest.mark.parametrize("name", ["robot.dimacs", "robot.cnf"])
+def test_a_dimacs_model_named_on_the_command_line_is_checked(run, tmp_path: Path, name):
+    f = tmp_path / name
+    f.write_text("c 1 A\nc 2 B\np cnf 2 2\n1 0\n-1 -2 0\n")
+    r = run("--check", str(f))
+    assert r.returncode == 0, r.stderr
+    assert _notices(r.stderr) == []
+    assert "dead-feature" in r.stdout and f"{name}:2:" in r.stdout  # B is dead, on its `c` line

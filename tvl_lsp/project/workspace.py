@@ -162,7 +162,7 @@ def _looks_like_launch(path: str) -> bool:
     return launch_root_text(head)
 
 
-def _classify(path: str, out: Files) -> None:
+def _classify(path: str, out: Files, explicit: bool = False) -> None:
     base = os.path.basename(path)
     if is_model(path) or (explicit and path.endswith(".cnf")):
         out.models.append(path)
@@ -181,9 +181,9 @@ def explicit_skip_reason(path: str) -> Optional[str]:
     to be and why that is not checked (one line); None when it is checked (a model, a launch
     file, an XML/rostest file with a ``<launch>`` root, a HAROS project file)."""
     base = os.path.basename(path)
-    if is_model(path) or is_launch(path) or _looks_like_launch(path):
-        return None
-    accepted = ("--check reads only TVL models (.tvl), launch files (.launch, .launch.xml, or .xml/.test "
+    if is_model(path) or is_launch(path) or _looks_like_launch(path) or path.endswith(".cnf"):
+        return None  # (a .cnf named on the command line is read as a DIMACS model)
+    accepted = ("--check reads only models (.tvl, .uvl, .dimacs), launch files (.launch, .launch.xml, or .xml/.test "
                 "with a <launch> root) and HAROS project files (YAML with a top-level `configurations:`)")
     try:
         with open(path, "rb") as fh:
@@ -206,8 +206,6 @@ def explicit_skip_reason(path: str) -> Optional[str]:
         m = re.match(r"\s*<([\w:.-]+)", text)
         root = f"<{m.group(1)}>" if m else "no element"
         return f"taken to be XML other than a launch file: its root is {root}, not <launch>"
-    if path.endswith((".dimacs", ".cnf")):
-        return "taken to be a DIMACS CNF model: `tvl-lsp count` reads it, --check does not"
     if b"\0" in head:
         return "taken to be a binary file; " + accepted
     suffix = os.path.splitext(base)[1]
@@ -227,7 +225,7 @@ def discover_files(paths: Iterable[str]) -> Files:
                 for fn in filenames:
                     _classify(os.path.join(dirpath, fn), out)
         elif os.path.isfile(p):
-            _classify(p, out)
+            _classify(p, out, explicit=True)
     return out.dedupe()
 
 
