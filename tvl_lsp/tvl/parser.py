@@ -762,6 +762,17 @@ def _run_lalr(tokens: list[Tok], end_pos: int, panic: bool = False):
                 return vs[-1]
 
 
+_CLOSERS = frozenset({"RBRACE", "RPAR", "RBRACK", "SEMI"})
+
+
+def _in_set(toks, depth, k) -> bool:
+    """Token ``k`` is inside the braces of a set (`in {1, 2}`)."""
+    j = k - 1
+    while j >= 0 and not (toks[j].type == "LBRACE" and depth[j] == depth[k] - 1):
+        j -= 1
+    return j > 0 and toks[j - 1].type == "IN"
+
+
 def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxIssue]]:
     """Parse ``toks`` (from :func:`tokenize`), recovering from syntax errors."""
     issues: list[SyntaxIssue] = []
@@ -898,8 +909,11 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                     patched = {i + 1 if i >= k else i for i in patched}
                     last_err = None
                     continue
-                if (tok.type in ("ID", "OPT", "SHARED") and k > 0 and toks[k - 1].type in ("ID", "RBRACE")
-                        and ("COMMA" in e.expected or "SEMI" in e.expected) and k not in patched):
+                if k not in patched and k > 0 and (
+                        (tok.type in ("ID", "OPT", "SHARED") and toks[k - 1].type in ("ID", "RBRACE")
+                         and ("COMMA" in e.expected or "SEMI" in e.expected))
+                        or (tok.type in ("INT", "REAL", "ID") and toks[k - 1].type in ("INT", "REAL", "ID")
+                            and "COMMA" in e.expected and _in_set(toks, depth, k))):  # in {1 2}
                     # a missing separator: report it and read it as if it were there
                     sep = "COMMA" if "COMMA" in e.expected else "SEMI"
                     patched.add(k)
@@ -915,6 +929,10 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                 # empty): drop the enclosing construct instead, without a second report
                 cascade = (tok.type == "RBRACE" and last_drop is not None and last_drop < k
                            and not any(alive[last_drop + 1:k]))
+                # likewise a closer or ';' right after a drop inside brackets ('{1 2};'): the statement
+                # around it is what is left of the reported mistake
+                cascade = cascade or (tok.type in _CLOSERS and last_drop is not None and last_drop < k
+                                      and all(toks[i].type in _CLOSERS for i in range(last_drop + 1, k) if alive[i]))
                 synthetic = tok.value == "" and tok.type in ("COMMA", "SEMI")
                 if last_err != k and not cascade and not synthetic:
                     issues.append(SyntaxIssue("syntax-error", tok.start, tok.end, msg))
