@@ -239,14 +239,32 @@ Base {
 """
 
 
+# A '}' forgotten inside the root's group (told by the indentation) and a value outside its domain
+BRACE = """root Robot {
+  group allOf {
+    Base,
+    opt Arm,
+    Sensor {
+      group oneOf { Lidar, Sonar }
+  }
+  Arm -> Lidar;
+}
+Base {
+  enum mode in {eco, sport};
+  mode == turbo;
+}
+"""
+
+
 @pytest.mark.parametrize("text,expected", [
+    (BRACE, [("syntax-error", "5:12-5:13", "never closed"), ("value-out-of-domain", "12:11-12:16")]),
     (MIXED, [("unknown-type", "7:3-7:10"), ("unknown-name", "8:10-8:17"), ("syntax-error", "11:9-11:14"),
              ("syntax-error", "14:19-14:20", "missing ','")]),
     (FOUR, [("unknown-name", "12:12-12:17"), ("syntax-error", "13:13-13:18"),
             ("syntax-error", "17:17-17:18"), ("unknown-name", "22:11-22:16")]),
     (SEPARATORS, [("syntax-error", "4:9-4:14", "missing ','"), ("syntax-error", "6:25-6:26", "missing ';'"),
                   ("syntax-error", "11:9-11:13", "missing ','"), ("syntax-error", "16:12-16:18", "missing ';'")]),
-], ids=["mixed-mistakes", "four-mistakes", "line-end-separators"])
+], ids=["missing-brace", "mixed-mistakes", "four-mistakes", "line-end-separators"])
 def test_one_error_per_mistake_at_its_range(text, expected):
     res = parse_model(text, "/tmp/several.tvl")
     errs = [d for d in res.diagnostics if d.severity == Severity.ERROR]

@@ -30,7 +30,7 @@ from . import model as m
 from .lexer import Tok
 from .raw import (RawAttr, RawBody, RawChild, RawConst, RawConstraint, RawData, RawFeatureDecl, RawGroup, RawType,
                   SyntaxIssue)
-from .recovery import _block_range, _find, _item_range, _prev_alive, _separator, _statement_range
+from .recovery import _block_range, _find, _item_range, _missing_braces, _prev_alive, _separator, _statement_range
 
 MAX_CHAIN = 5000  # terms of a flat `a && b && ...` / `a || b || ...` chain
 MAX_DEPTH = 200  # expression / feature nesting handled (deeper input is reported, not crashed on)
@@ -776,6 +776,7 @@ def _in_set(toks, depth, k) -> bool:
 def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxIssue]]:
     """Parse ``toks`` (from :func:`tokenize`), recovering from syntax errors."""
     issues: list[SyntaxIssue] = []
+    toks = _missing_braces(toks, smap, issues)
     depth = []
     d = 0
     for t in toks:

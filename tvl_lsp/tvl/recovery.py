@@ -6,6 +6,54 @@ from __future__ import annotations
 
 from typing import Optional
 
+from .lexer import Tok
+from .raw import SyntaxIssue
+
+
+def _missing_braces(toks: list, smap, issues: list) -> list:
+    """A '}' forgotten inside a block, told by the indentation: a '}' that begins its line at a
+    column left of the line that opened the innermost '{', where the '{' below that one opened at
+    exactly that column, closes the outer block: the inner one lacks its '}'.  It is reported on
+    the '{' left open and supplied there (one error, no cascade through the rest of the file)."""
+    if len(toks) > 200_000:
+        return toks
+    line_col: list = []
+    first_col: dict = {}
+    for t in toks:
+        p = smap.span(t.start, t.start).start
+        line_col.append((p.line, p.col))
+        if p.line not in first_col:
+            first_col[p.line] = p.col
+    stack: list = []  # indexes of open '{'
+    inserts: list = []  # (index to insert before, the '{' left open)
+    for i, t in enumerate(toks):
+        if t.type == "LBRACE":
+            stack.append(i)
+        elif t.type == "RBRACE" and stack:
+            line, col = line_col[i]
+            top = stack[-1]
+            if first_col.get(line) == col and len(stack) >= 2:
+                ind_top = first_col[line_col[top][0]]
+                ind_next = first_col[line_col[stack[-2]][0]]
+                if ind_top > col and ind_next == col and line_col[top][0] != line:
+                    inserts.append((i, top))
+                    stack.pop()
+            stack.pop()
+    # only where braces do not balance: a file whose braces match is never changed
+    missing = sum(t.type == "LBRACE" for t in toks) - sum(t.type == "RBRACE" for t in toks)
+    inserts = inserts[:max(0, missing)]
+    if not inserts:
+        return toks
+    out = list(toks)
+    for i, top in reversed(inserts):
+        prev = toks[i - 1]
+        out.insert(i, Tok("RBRACE", "", prev.end, prev.end))
+        o = toks[top]
+        issues.append(SyntaxIssue("syntax-error", o.start, o.end,
+                                  f"this '{{' (line {line_col[top][0] + 1}) is never closed: a '}}' is missing "
+                                  f"before line {line_col[i][0] + 1}"))
+    return out
+
 
 def _prev_alive(alive, k) -> Optional[int]:
     j = k - 1
