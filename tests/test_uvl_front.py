@@ -300,3 +300,19 @@ def test_dimacs_first_class_in_check(tmp_path):
     bad.write_text("p cnf 2 1\n1 x 0\nc 1 A\nc 2 A\n")
     got = [(d.code, str(d.span)) for d in check_document(str(bad))]
     assert ("syntax-error", "2:3-2:4") in got and ("duplicate-feature-name", "4:5-4:6") in got
+
+
+def test_check_gives_one_error_per_mistake_and_none_elsewhere(tmp_path):
+    """Through the whole --check pipeline (front end and analyses): five independent mistakes, five
+    errors at their places; the impossible cardinality does not add a void-model error."""
+    p = tmp_path / "shop.uvl"
+    p.write_text(
+        "namespace Shop\n\nfeatures\n    Shop {abstract}\n        mandatory\n            Catalog\n"
+        "            Payment\n                [3..1]\n                    Card\n                    Cash\n"
+        "        optional\n            Search {weight 2\n            Wishlist\n            \"Gift Card\"\n\n"
+        "constraints\n    Search => Catalg\n    Wishlist => \"Gift Card\"\n    Card | => Cash\n"
+        "    (Wishlist & Search\n")
+    errs = [(d.code, str(d.span)) for d in check_document(str(p)) if d.severity == 1]
+    assert errs == [("cardinality-bounds", "8:17-8:23"), ("syntax-error", "12:20-12:21"),
+                    ("unknown-name", "17:15-17:21"), ("syntax-error", "19:12-19:14"),
+                    ("syntax-error", "20:23-20:23")], errs
