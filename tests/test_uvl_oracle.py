@@ -69,11 +69,11 @@ def uvlparser(tmp_path_factory):
         p = subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--disable-pip-version-check",
                             "--target", target, "uvlparser==2.5.0"], capture_output=True, text=True, timeout=240)
     except (subprocess.TimeoutExpired, OSError) as ex:
-        pytest.skip(f"uvlparser could not be installed ({ex}); set UVLPARSER_TARGET to a folder made with "
-                    "`pip install --target DIR uvlparser==2.5.0`")
+        pytest.skip(f"uvlparser: pip install --target DIR uvlparser==2.5.0 failed ({ex}); "
+                    "set UVLPARSER_TARGET to such a folder")
     if p.returncode != 0 or not (Path(target) / "main.py").is_file():
-        pytest.skip("uvlparser could not be installed (no network?); set UVLPARSER_TARGET to a folder made with "
-                    "`pip install --target DIR uvlparser==2.5.0`")
+        pytest.skip("uvlparser: pip install --target DIR uvlparser==2.5.0 failed (no network?); "
+                    "set UVLPARSER_TARGET to such a folder")
     return target
 
 
