@@ -213,6 +213,11 @@ def test_several_independent_mistakes_get_one_error_each():
      [(6, 6, "unexpected end of line; expected a feature name, '!' or '('")]),
     ('features\n\t"A.B"\n', [(2, 2, "a quoted feature name cannot contain '.' (it separates an import's name "
                                      "from its features)")]),
+    # TVL / C habits in a constraint
+    ("features\n\tA\n\t\toptional\n\t\t\tB\nconstraints\n\tA && B\n", [(6, 4, "UVL writes '&', not '&&'")]),
+    ("features\n\tA\n\t\toptional\n\t\t\tB\nconstraints\n\tA || B\n", [(6, 4, "UVL writes '|', not '||'")]),
+    ("features\n\tA\n\t\toptional\n\t\t\tB\nconstraints\n\tB -> A\n",
+     [(6, 4, "UVL writes an implication '=>', not '->'")]),
     # types: a number where a constraint is expected
     ("features\n\tA\n\t\toptional\n\t\t\tB\nconstraints\n\tB & 3\n", [(6, 6, "a number is not a boolean")]),
     ("features\n\tA\n\t\toptional\n\t\t\tB\nconstraints\n\t(B & A) + 1 > 0\n",

@@ -859,6 +859,13 @@ def _issue(tok: Tok, expected: set, ln: Line, section: str) -> SyntaxIssue:
             return SyntaxIssue(tok.start, nxt.end,
                                f"a feature name cannot begin with a digit: write it in double quotes "
                                f"(\"{tok.value}{nxt.value}\")")
+    if section == "constraints" and t in ("AND", "OR", "GT"):
+        prev = next((x for x in ln.toks if x.end == tok.start), None)
+        if prev is not None and prev.type == t and t in ("AND", "OR"):
+            op = "&" if t == "AND" else "|"
+            return SyntaxIssue(prev.start, tok.end, f"UVL writes '{op}', not '{op}{op}'")
+        if prev is not None and t == "GT" and prev.type == "MINUS":
+            return SyntaxIssue(prev.start, tok.end, "UVL writes an implication '=>', not '->'")
     if t in ("INT", "FLOAT") and tok.value.startswith("-") and section == "constraints":
         return SyntaxIssue(tok.start, tok.end,
                            f"unexpected number {tok.value}: UVL reads '-' glued to a number as its sign; "
