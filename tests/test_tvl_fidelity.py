@@ -258,7 +258,7 @@ Base {
 
 @pytest.mark.parametrize("text,expected", [
     (BRACE, [("syntax-error", "5:12-5:13", "never closed"), ("value-out-of-domain", "12:11-12:16")]),
-    (MIXED, [("unknown-type", "7:3-7:10"), ("unknown-name", "8:10-8:17"), ("syntax-error", "11:9-11:14"),
+    (MIXED, [("unknown-type", "7:3-7:10"), ("unknown-name", "8:10-8:17"), ("syntax-error", "11:3-11:8", "misspelt 'group'"),
              ("syntax-error", "14:19-14:20", "missing ','")]),
     (FOUR, [("unknown-name", "12:12-12:17"), ("syntax-error", "13:13-13:18"),
             ("syntax-error", "17:17-17:18"), ("unknown-name", "22:11-22:16")]),

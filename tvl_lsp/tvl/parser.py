@@ -841,6 +841,7 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                 k = _find(toks, tok)
                 if k is None:
                     break
+                at = (tok.start, tok.end)
                 if tok.type == "RBRACE" and "SEMI" in e.expected:
                     msg = "missing ';' before '}'"
                 elif tok.type in ("ANDAGG", "ORAGG"):
@@ -849,6 +850,11 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                 elif (tok.type in ("ID", "OPT", "SHARED") and k > 0 and toks[k - 1].type in ("ID", "RBRACE")
                       and ("COMMA" in e.expected or "SEMI" in e.expected)):
                     msg = f"unexpected '{tok.value}': is a ',' or ';' missing before it?"
+                elif (tok.type in ("ALLOF", "ONEOF", "SOMEOF") and k > 0 and toks[k - 1].type == "ID"
+                      and toks[k - 1].value.lower() != "group"
+                      and sorted(toks[k - 1].value.lower()) == sorted("group")):
+                    msg = f"'{toks[k - 1].value}' is not a keyword: is it a misspelt 'group'?"
+                    at = (toks[k - 1].start, toks[k - 1].end)
                 elif tok.type in ("INT", "REAL") and tok.value.startswith("-"):
                     msg = (f"unexpected number '{tok.value}': TVL reads '-' glued to a number as its sign; "
                            f"put a space after '-' to subtract")
@@ -936,7 +942,7 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                                       and all(toks[i].type in _CLOSERS for i in range(last_drop + 1, k) if alive[i]))
                 synthetic = tok.value == "" and tok.type in ("COMMA", "SEMI")
                 if last_err != k and not cascade and not synthetic:
-                    issues.append(SyntaxIssue("syntax-error", tok.start, tok.end, msg))
+                    issues.append(SyntaxIssue("syntax-error", at[0], at[1], msg))
                 if tok.type == "RBRACE":
                     a, b = _block_range(toks, depth, k)
                 else:
