@@ -50,8 +50,8 @@ def main(argv: list[str]) -> int:
         if args.model.endswith((".dimacs", ".cnf")):
             a, errors = ModelAnalysis.from_dimacs(text, args.model), []
         else:
-            from ...tvl import parse_model
-            res = parse_model(text, args.model)
+            from ...analysis.formats import parse_any_model
+            res = parse_any_model(text, args.model)  # TVL or UVL
             if res.model is None:
                 raise ValueError("no model could be read")
             a, errors = ModelAnalysis(res.model), res.errors
