@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from tvl_lsp.analysis.convert import convert_model
-from tvl_lsp.analysis.count import CountTimeout
+from tvl_lsp.analysis.counting import CountTimeout
 from tvl_lsp.analysis.dimacs import parse_dimacs
 from tvl_lsp.analysis.engine import ModelAnalysis
 from tvl_lsp.analysis.formats import parse_any_model

@@ -80,7 +80,7 @@ def main(argv: list[str]) -> int:
             return 2
     status = 0 if conv.exact else 1
     if args.verify:
-        from ...analysis.count import CountTimeout
+        from ...analysis.counting import CountTimeout
         from ...analysis.engine import ModelAnalysis
         try:
             a = ModelAnalysis(res.model).count(timeout=args.timeout)
