@@ -233,3 +233,29 @@ def test_an_installed_file_maps_back_to_its_source(tmp_path):
     diags = check_document(str(main_file))
     assert [d.code for d in diags] == ["undefined-arg"], diags
     assert "in the included file r1.launch.xml" in diags[0].message
+
+
+# ------------------------------------------------------------------ configurations set by includers
+
+def test_a_condition_on_a_configuration_an_includer_sets_is_neither_constant_nor_dead():
+    # headless/sim.launch.xml reads 'headless', which headless/common.launch.xml declares
+    # (default false) and the command line may set: its if/unless are not constant
+    sim = WS / "src" / "r2_bringup" / "launch" / "headless" / "sim.launch.xml"
+    diags = check_document(str(sim))
+    assert not [d for d in diags if d.code in ("constant-condition", "dead-element", "undefined-arg")], diags
+    top = WS / "src" / "r2_bringup" / "launch" / "headless.launch.xml"
+    assert not [d for d in check_document(str(top)) if d.severity <= 2]
+
+
+def test_a_configuration_nobody_declares_is_one_warning_per_read_and_no_cascade(tmp_path):
+    # on its own (no file includes it): each read of 'headless' is a warning; 'sim_name' is set
+    # by one of the two <let>s whatever 'headless' turns out to be: no error on $(var sim_name)
+    pkg = tmp_path / "ws" / "src" / "p"
+    shutil.copytree(WS / "src" / "r2_bringup" / "launch" / "headless", pkg / "launch")
+    (pkg / "launch" / "common.launch.xml").unlink()
+    shutil.copy(WS / "src" / "r2_bringup" / "package.xml", pkg / "package.xml")
+    diags = check_document(str(pkg / "launch" / "sim.launch.xml"))
+    text = (pkg / "launch" / "sim.launch.xml").read_text()
+    idx = LineIndex(text)
+    got = sorted((d.code, d.severity, text[idx.offset(d.span.start):idx.offset(d.span.end)]) for d in diags)
+    assert got == [("undefined-arg", 2, "$(var headless)")] * 3, got

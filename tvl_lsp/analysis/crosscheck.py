@@ -462,6 +462,7 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
     # spans of load-time problems (and untranslatable conditions) in this file: an element whose
     # if/unless value has one is not "dead" or "constant" -- roslaunch fails on it, or we cannot tell
     trouble = [f.span for f in launch.facts if f.path == launch.path]
+    trouble += [s for p, s in getattr(launch, "unknown_conditions", ()) if p == launch.path]
 
     # args a user can set on the command line although they are not free booleans here: a
     # declaration with a default (roslaunch lets the command line override it).  A condition

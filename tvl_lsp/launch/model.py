@@ -198,6 +198,9 @@ class LaunchAnalysis:
     # free args declared without value or default whose value the load uses: roslaunch run with
     # the file's defaults fails on them (a paired model's features are set by its configurations)
     required_args: list[str] = field(default_factory=list)
+    # ROS 2: (path, span) of if/unless values tvl-lsp cannot compute in some case (e.g. a launch
+    # configuration a file that includes this one sets): neither dead nor constant
+    unknown_conditions: list = field(default_factory=list)
 
 
 @dataclass

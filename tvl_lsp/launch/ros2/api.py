@@ -250,6 +250,7 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
                                          a.description, path, el))
     la = LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, merge_facts(w.facts),
                         w.includes, [], root_el, "ros2")
+    la.unknown_conditions = list(dict.fromkeys(w.unknown_conditions))
     for d in feature_decls:
         a = next((x for x in (u.actions if u.doc.root is not None else []) if isinstance(x, A.ArgA)
                   and x.name == d.name and x.choices is not None), None)

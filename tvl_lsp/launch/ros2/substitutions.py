@@ -94,6 +94,8 @@ class SubstEval:
                     fail(f"launch configuration '{n}' does not exist", missing, UNDEFINED_ARG,
                          f"$(var {n}): {os.path.basename(path)} does not declare '{n}' (ros2 launch: launch "
                          f"configuration '{n}' does not exist), unless a file that includes it sets it", severity=W)
+                    # and when one does, its value is unknown here: analyse on (no cascade of errors)
+                    out.append((missing, OPAQUE))
                     continue
                 fail(f"launch configuration '{n}' does not exist", missing, UNDEFINED_ARG,
                      f"$(var {n}): no <arg> or <let> named '{n}' is set here (ros2 launch: launch configuration "

@@ -84,6 +84,9 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.free: set[str] = set()
         self.timers: list = []
         self.lenient = False               # undeclared configurations: warnings (no model paired)
+        # (path, span) of if/unless values that are unknown in some case (a configuration an
+        # includer sets, $(command) ...): such a condition is neither dead nor constant
+        self.unknown_conditions: list = []
         self.declared_names: dict[str, set[str]] = {}   # file -> the names it declares
 
     def fact(self, code: str, message: str, path: str, span: Span, cond: Formula, severity: Severity = E,
@@ -227,6 +230,8 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         for c, v in cases:
             if opaque(v):
                 ok.append(c)
+                if not self.concrete:
+                    self.unknown_conditions.append((el.path, span))
                 continue
             b = cond_value(v)
             if b is None:
