@@ -300,7 +300,7 @@ def test_dialect_detection(tmp_path):
 
 def test_ament_workspace_packages(tmp_path):
     pk = find_ament_packages(str(WS))
-    assert set(pk) == {"r2_bringup", "r2_sensors", "r2_robot", "r2_legacy"}
+    assert set(pk) == {"r2_bringup", "r2_sensors", "r2_robot", "r2_legacy", "r2_ext"}
     assert pk["r2_bringup"].dialect == "ros2" and pk["r2_legacy"].dialect == "ros1"
     # build install log are skipped, COLCON_IGNORE is honoured
     for sub in ("build/x", "install/x", "log/x", "src/ignored"):

@@ -259,3 +259,29 @@ def test_a_configuration_nobody_declares_is_one_warning_per_read_and_no_cascade(
     idx = LineIndex(text)
     got = sorted((d.code, d.severity, text[idx.offset(d.span.start):idx.offset(d.span.end)]) for d in diags)
     assert got == [("undefined-arg", 2, "$(var headless)")] * 3, got
+
+
+# ------------------------------------------------------------------ launch extensions
+
+def test_a_tag_of_a_launch_extension_in_the_workspace_is_a_note_not_an_error(tmp_path):
+    # r2_ext exposes <mark> (entry point launch.frontend.launch_extension): with r2_ext installed,
+    # ros2 launch loads extension.launch.xml (golden/extension_*.json); tvl-lsp says it does not
+    # model what <mark> does, and analyses the rest
+    path = WS / "src" / "r2_bringup" / "launch" / "extension.launch.xml"
+    text = path.read_text()
+    idx = LineIndex(text)
+    diags = check_document(str(path))
+    got = [(d.code, d.severity, text[idx.offset(d.span.start):idx.offset(d.span.end)]) for d in diags]
+    assert got == [("extension-tag", 3, "mark"), ("extension-tag", 3, "mark")], got
+    assert "r2_ext" in diags[0].message
+    res = load_launch2(str(path), {"use_cam": "true"}, workspace_root=str(WS), env={})
+    assert res.error is None and [n["name"] for n in res.nodes] == ["/planner", "/cam"]
+    assert any("<mark>" in w and "r2_ext" in w for w in res.warnings)
+    # without the extension package, ros2 launch refuses the file: so does tvl-lsp
+    ws = tmp_path / "ws"
+    shutil.copytree(WS, ws, ignore=shutil.ignore_patterns("r2_ext"))
+    other = ws / "src" / "r2_bringup" / "launch" / "extension.launch.xml"
+    codes = [(d.code, d.severity) for d in check_document(str(other))]
+    assert ("unknown-tag", 1) in codes and "extension-tag" not in {c for c, _ in codes}
+    res = load_launch2(str(other), {}, workspace_root=str(ws), env={})
+    assert res.error and "Unrecognized entity of the type: mark" in res.error

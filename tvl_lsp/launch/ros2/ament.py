@@ -157,3 +157,113 @@ def guess_ament_root(path: str) -> Optional[str]:
             break
         d = nd
     return pkg_parent
+
+
+# ------------------------------------------------------------------ launch extensions
+
+# A Python package extends the launch front end with tags (``@expose_action('trace')``) and
+# substitutions (``@expose_substitution('name')``) through the entry point group
+# ``launch.frontend.launch_extension`` (tracetools_launch's <trace>, ...): ros2 launch loads
+# them when the package is installed.  Found statically: nothing is imported or run.
+EXTENSION_GROUP = "launch.frontend.launch_extension"
+_EXPOSE = re.compile(r"expose_(action|substitution)\(\s*['\"]([A-Za-z_][\w-]*)['\"]")
+_SECTION = re.compile(r"^\s*\[([^\]]+)\]\s*$")
+MAX_EXTENSION_FILES = 400
+
+
+def _exposed(folder: str) -> dict[str, str]:
+    """tag or substitution name -> "action" / "substitution" exposed by the Python files under
+    ``folder`` (tests and build folders skipped; bounded)."""
+    out: dict[str, str] = {}
+    seen = 0
+    for dirpath, dirnames, filenames in os.walk(folder):
+        dirnames[:] = sorted(d for d in dirnames if d not in SKIP and not d.startswith(".") and d != "test")
+        for f in sorted(filenames):
+            if not f.endswith(".py"):
+                continue
+            seen += 1
+            if seen > MAX_EXTENSION_FILES:
+                return out
+            try:
+                with open(os.path.join(dirpath, f), encoding="utf-8", errors="replace") as fh:
+                    text = fh.read(1_000_000)
+            except OSError:
+                continue
+            if "expose_" in text:
+                for kind, name in _EXPOSE.findall(text):
+                    out.setdefault(name, kind)
+    return out
+
+
+def _entry_modules(text: str) -> list[str]:
+    """The modules of the launch-extension entry points in an ``entry_points.txt``."""
+    out, on = [], False
+    for line in text.splitlines():
+        m = _SECTION.match(line)
+        if m:
+            on = m.group(1).strip() == EXTENSION_GROUP
+        elif on and "=" in line:
+            out.append(line.split("=", 1)[1].split(":", 1)[0].strip())
+    return out
+
+
+@lru_cache(maxsize=64)
+def _workspace_extension(folder: str, stamp: float) -> dict[str, str]:
+    for name in ("setup.py", "setup.cfg", "pyproject.toml"):
+        try:
+            with open(os.path.join(folder, name), encoding="utf-8", errors="replace") as f:
+                if EXTENSION_GROUP in f.read(200_000):
+                    return _exposed(folder)
+        except OSError:
+            continue
+    return {}
+
+
+@lru_cache(maxsize=16)
+def _installed_extensions(prefixes: str) -> dict[str, tuple[str, str]]:
+    out: dict[str, tuple[str, str]] = {}
+    for prefix in prefixes.split(os.pathsep):
+        lib = os.path.join(prefix, "lib") if prefix else ""
+        try:
+            pys = sorted(d for d in os.listdir(lib) if d.startswith("python")) if lib else []
+        except OSError:
+            continue
+        for py in pys:
+            for sub in ("site-packages", "dist-packages"):
+                site = os.path.join(lib, py, sub)
+                try:
+                    metas = sorted(d for d in os.listdir(site) if d.endswith((".egg-info", ".dist-info")))
+                except OSError:
+                    continue
+                for meta in metas:
+                    try:
+                        with open(os.path.join(site, meta, "entry_points.txt"), encoding="utf-8",
+                                  errors="replace") as f:
+                            mods = _entry_modules(f.read(100_000))
+                    except OSError:
+                        continue
+                    dist = meta.split("-", 1)[0]
+                    for mod in mods:
+                        for name, kind in _exposed(os.path.join(site, *mod.split("."))).items():
+                            out.setdefault(name, (kind, dist))
+    return out
+
+
+def launch_extensions(packages: Mapping[str, str], env: Mapping[str, str]) -> dict[str, tuple[str, str]]:
+    """Name -> ("action" | "substitution", package) of what the launch extensions of the
+    workspace's packages (``packages``: name -> folder) and of the ament prefixes in
+    ``AMENT_PREFIX_PATH`` add to the launch front end."""
+    out: dict[str, tuple[str, str]] = {}
+    for pkg, folder in sorted(packages.items()):
+        try:
+            stamp = max(os.stat(os.path.join(folder, n)).st_mtime for n in ("setup.py", "setup.cfg")
+                        if os.path.exists(os.path.join(folder, n)))
+        except ValueError:
+            continue  # not a Python package
+        except OSError:
+            continue
+        for name, kind in _workspace_extension(folder, stamp).items():
+            out.setdefault(name, (kind, pkg))
+    for name, v in _installed_extensions(env.get("AMENT_PREFIX_PATH") or "").items():
+        out.setdefault(name, v)
+    return out

@@ -48,6 +48,7 @@ INCLUDE_INVALID = _reg("include-invalid", E, "An included file is not a valid la
 INCLUDE_CYCLE = _reg("include-cycle", E, "Files include each other in a cycle")
 INCLUDE_TOO_DEEP = _reg("include-too-deep", W, "Includes nested too deeply to follow")
 NO_LAUNCH_ROOT = _reg("no-launch-root", E, "The file has no single <launch> element")
+EXTENSION_TAG = _reg("extension-tag", I, "A tag a launch extension adds (tvl-lsp does not model what it does)")
 FILE_NOT_FOUND = _reg("file-not-found", E, "A file a tag loads does not exist")
 BUDGET = _reg("launch-analysis-budget", W, "The launch file is too large to analyse completely")
 # ROS 2 only

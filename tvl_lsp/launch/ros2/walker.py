@@ -34,7 +34,7 @@ from .frontend import parse_launch_file
 from .includes import IncludeRules
 from .nodes import NodeRules
 from .substitutions import SubstEval
-from .values import (E, I, W, declared_in, ARG_LEAK, BUDGET, CONDITION_NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
+from .values import (E, I, W, declared_in, ARG_LEAK, EXTENSION_TAG, BUDGET, CONDITION_NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
                      INVALID_NAMESPACE, LaunchFact, MAX_CASES, MAX_VISITS, MAX_WALK_DEPTH, Node2Fact, OPAQUE, RList,
                      Scope, Stop, UNSET_ARG, Unit, _CLASS, _extension, _python_error, _yaml_value, cond_value,
                      make_absolute, merge, opaque, prefix_namespace, present, shown, validate_namespace)
@@ -88,6 +88,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         # includer sets, $(command) ...): such a condition is neither dead nor constant
         self.unknown_conditions: list = []
         self.declared_names: dict[str, set[str]] = {}   # file -> the names it declares
+        self._extensions: Optional[dict] = None
 
     def fact(self, code: str, message: str, path: str, span: Span, cond: Formula, severity: Severity = E,
              related=None, launch: tuple[str, str] = ("", "")):
@@ -160,9 +161,40 @@ class Walker(SubstEval, NodeRules, IncludeRules):
             if len(_PARSED) >= MAX_PARSED:
                 _PARSED.pop(next(iter(_PARSED)))
             _PARSED[key] = u
+        if u.errors:
+            u = self.extension_tags(u)
         self.declared_names[path] = declared_in(u.actions)
         self.units[path] = u
         return u
+
+    def extension_tags(self, u: Unit) -> Unit:
+        """Tags a launch extension of the workspace (or of AMENT_PREFIX_PATH) adds, e.g.
+        tracetools_launch's <trace>, are no error: ros2 launch knows them once the package is
+        installed.  What they do is not modelled: a note (the root file) or a warning of the
+        concrete load says so; the rest of the file is analysed as usual."""
+        if self._extensions is None:
+            from .ament import launch_extensions
+            try:
+                self._extensions = {k: v for k, v in launch_extensions(self.packages, self.env).items()
+                                    if v[0] == "action"}
+            except Exception:
+                self._extensions = {}
+        ext = []
+        for e in u.errors:
+            tag = e.message.rsplit(": ", 1)[-1] if e.message.startswith("Unrecognized entity of the type: ") else None
+            if tag in self._extensions:
+                ext.append((e, tag, self._extensions[tag][1]))
+        if not ext:
+            return u
+        for e, tag, pkg in ext:
+            msg = (f"<{tag}> is a tag of the launch extension {pkg}: ros2 launch knows it when {pkg} is installed; "
+                   "tvl-lsp does not model what it does")
+            if self.concrete:
+                self.warnings.append(msg)
+            elif u.path == self.root_path:
+                self.note(EXTENSION_TAG, msg, u.path, e.span)
+        skip = {id(e) for e, _, _ in ext}
+        return Unit(u.path, u.doc, u.actions, [e for e in u.errors if id(e) not in skip], u.python)
 
     def load_message(self, path: str, errors: list) -> str:
         """InvalidLaunchFileError's text for a file launch could not load."""
