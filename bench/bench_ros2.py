@@ -39,12 +39,27 @@ ENV = {"PATH": "/usr/bin:/bin", "HOME": "/tmp"}
 FLIP = {"true": "false", "false": "true", "True": "False", "False": "True"}
 
 
-def launch_files(ws: Path) -> list[Path]:
+def launch_files(ws: Path, any_name: bool = False) -> list[Path]:
+    """The ROS 2 launch files of a workspace by name; with ``any_name``, also every ``.xml`` /
+    ``.yaml`` / ``.launch`` file in a ``launch`` folder that tvl-lsp reads as ROS 2 launch
+    (``*_launch_all_hw.xml``, mavros's ``*.launch`` ...)."""
+    from tvl_lsp.launch import dialect_of
     base = ws / "src" if (ws / "src").is_dir() else ws
     out = []
     for d, dn, fn in os.walk(base):
         dn[:] = sorted(x for x in dn if not x.startswith(".") and x not in ("build", "install", "log"))
-        out += [Path(d) / f for f in sorted(fn) if f.endswith(SUFFIXES)]
+        for f in sorted(fn):
+            p = Path(d) / f
+            if f.endswith(SUFFIXES):
+                out.append(p)
+            elif any_name and "launch" in p.parts and f.endswith((".xml", ".yaml", ".launch")) \
+                    and f != "package.xml":
+                try:
+                    text = p.read_text(errors="replace")
+                except OSError:
+                    continue
+                if ("<launch" in text or text.lstrip().startswith("launch:")) and dialect_of(str(p), text).ros2:
+                    out.append(p)
     return out
 
 
@@ -92,10 +107,12 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--workspace", required=True, help="a ROS 2 workspace (packages under src/)")
     ap.add_argument("--oracle", action="store_true", help="also compare with ros2-launch-oracle")
+    ap.add_argument("--any-name", action="store_true",
+                    help="also files in launch/ folders with other names that tvl-lsp reads as ROS 2 launch")
     ap.add_argument("-v", "--verbose", action="store_true", help="print every disagreement")
     ns = ap.parse_args(argv)
     ws = Path(ns.workspace).resolve()
-    files = launch_files(ws)
+    files = launch_files(ws, ns.any_name)
     if not files:
         print(f"no ROS 2 launch files under {ws}", file=sys.stderr)
         return 2
