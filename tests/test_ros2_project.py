@@ -49,6 +49,33 @@ def test_ros2_twin_gets_the_findings_of_its_ros1_twin():
     assert "$(var cam_b)" in later.message and "ros2 launch stops earlier" in later.related[0].message
 
 
+def test_courier_twins_get_the_same_findings_with_exact_ranges():
+    # a second pair, with a mistake of each kind: args for two features missing, a misspelt
+    # feature arg, a non-feature top-level arg, a node name clash, an element the model
+    # rules out (Lift -> !Bumper), a condition the model makes constant (Docking -> Sonar), an
+    # undeclared arg, and a condition that is never a boolean
+    ros1_path = TWINS / "ros1/src/courier/launch/courier.launch"
+    ros2_path = TWINS / "ros2/src/courier/launch/courier.launch.xml"
+    ros1, ros2 = check_document(str(ros1_path)), check_document(str(ros2_path))
+    a = sorted(_key(d) for d in ros1 if d.code in TWIN_CODES)
+    b = sorted(_key(d) for d in ros2 if d.code in TWIN_CODES)
+    assert a == b
+    assert {d.code for d in ros1} == {d.code for d in ros2} <= TWIN_CODES
+    text = ros2_path.read_text()
+    idx = LineIndex(text)
+    got = sorted((d.code, text[idx.offset(d.span.start):idx.offset(d.span.end)]) for d in ros2
+                 if d.code != "missing-arg")
+    assert got == [("constant-condition", "$(var Sonar)"), ("dead-element", '<node pkg="lift" exec="lift_guard" '
+                                                            'name="lift_guard" if="$(var Lift)"/>'),
+                   ("duplicate-node", "ranger"), ("invalid-condition", "$(var Localisation)_on"),
+                   ("undefined-arg", "$(var dock_station)"), ("unmatched-arg", "Sonr"), ("unmatched-arg", "map")]
+    missing = sorted(d.message.split("`")[1] for d in ros2 if d.code == "missing-arg")
+    assert missing == ["Docking", "Sonar"]
+    wit = {d.code: d.witness for d in ros2 if d.witness}
+    assert wit["duplicate-node"]["Bumper"] and wit["duplicate-node"]["Sonar"]
+    assert wit["undefined-arg"]["Docking"] and wit["invalid-condition"]["Localisation"]
+
+
 def test_check_of_the_ros2_generic_file_has_exact_ranges():
     path = ROBOT / "issues.launch.xml"
     text = path.read_text()
