@@ -103,6 +103,45 @@ def run_oracle(ws: Path, tasks: list[dict]) -> list[dict]:
     return [json.loads(x) for x in r.stdout.splitlines() if x.strip()]
 
 
+BOOL_WORDS = ("true", "false", "1", "0")
+
+
+def symbolic_agrees(ws: Path, run: dict, cache: dict) -> bool | None:
+    """The symbolic analysis (what --check reasons on: the file's boolean args free) evaluated at
+    the run's args has the oracle's nodes, and an error holds there iff launch failed.  None
+    (not compared): a run that gives a non-boolean arg (the analysis has no value for it), or one
+    the oracle fails on a Python include or on a file of a package outside the workspace (the
+    analysis notes these rather than reporting an error)."""
+    from tvl_lsp.base.formula import evaluate, variables
+    from tvl_lsp.launch.ros2.api import free_args2
+    want, path, given = run["result"], run["file"], run["args"]
+    e = want["error"] or ""
+    if "Python launch file" in e or ("FileNotFoundError" in e and f"{ws}/install/share/" in e):
+        return None
+    if any(v.strip().lower() not in BOOL_WORDS for v in given.values()):
+        return None
+    text = Path(path).read_text(errors="replace")
+    doc = parse_launch_file(text, path)
+    acts = A.parse_description(doc.root, path)[0] if doc.root is not None else []
+    free = set(free_args2(text, path)) | set(given)
+    assign = {a.name: given.get(a.name, a.default.text if a.default is not None else "false").strip().lower()
+              in ("true", "1") for a in acts if isinstance(a, A.ArgA) and a.name in free}
+    feats = tuple(sorted(assign))
+    if (path, feats) not in cache:
+        cache[(path, feats)] = analyse_launch2(text, path, workspace_root=str(ws), env=ENV, features=list(feats))
+    la = cache[(path, feats)]
+
+    def holds(c):
+        return evaluate(c, {v: assign.get(v, False) for v in variables(c)})
+    got = [(n.name or None, n.package, n.executable or None) for n in la.nodes if holds(n.condition)]
+    exp = [(n["name"], n["package"], n["executable"]) for n in want["nodes"]]
+    errors = [f for f in la.facts if (f.severity == 1 or f.code == "unset-arg") and holds(f.condition)]
+    errors += [x for x in la.diagnostics if x.severity == 1]
+    if want["error"] is None:
+        return got == exp and not errors
+    return bool(errors) and got[:len(exp)] == exp
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--workspace", required=True, help="a ROS 2 workspace (packages under src/)")
@@ -133,8 +172,15 @@ def main(argv=None) -> int:
         return 0
     rnd = random.Random(5)
     tasks = [{"file": str(f), "args": a} for f in files for a in arg_sets(f, rnd)]
-    stats = {"runs": 0, "nodes": 0, "remaps": 0, "error": 0, "message": 0}
+    stats = {"runs": 0, "nodes": 0, "remaps": 0, "error": 0, "message": 0, "sym_runs": 0, "sym_equal": 0}
+    cache: dict = {}
     for d in run_oracle(ws, tasks):
+        agrees = symbolic_agrees(ws, d, cache)
+        if agrees is not None:
+            stats["sym_runs"] += 1
+            stats["sym_equal"] += agrees
+            if ns.verbose and not agrees:
+                print("SYMBOLIC DIFFERS", os.path.relpath(d["file"], ws), d["args"], d["result"]["error"])
         r = d["result"]
         res = load_launch2(d["file"], d["args"], workspace_root=str(ws), env=ENV)
         want = [(n["name"], n["package"], n["executable"]) for n in r["nodes"]]
@@ -151,6 +197,8 @@ def main(argv=None) -> int:
     print(f"oracle: {n} runs; equal nodes {stats['nodes']}, remaps {stats['remaps']}, error or not "
           f"{stats['error']}, error message {stats['message']} (the oracle's refusal of Python files reads "
           "differently)")
+    print(f"symbolic analysis at the runs' args (runs with boolean args only): {stats['sym_runs']} runs; "
+          f"nodes and error-or-not equal {stats['sym_equal']}")
     return 0 if stats["nodes"] == stats["remaps"] == stats["error"] == n else 1
 
 
