@@ -56,20 +56,31 @@ async def test_graph_findings_are_diagnostics(client: LanguageClient):
     assert any(r.location.uri.endswith("camera.launch") for r in mm.related_information or [])
 
 
+async def _node_hover(client, uri, line, col):
+    """Hover on a node; under load the graph may still be building ("computing…, hover again"):
+    hover again, as a user would, for up to 60 s."""
+    import asyncio, time
+    deadline = time.monotonic() + 60
+    while True:
+        h = await client.text_document_hover_async(types.HoverParams(
+            text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(line=line, character=col)))
+        if h is None or "computing…" not in h.contents.value or time.monotonic() > deadline:
+            return h
+        await asyncio.sleep(0.5)
+
+
 async def test_hover_on_node_lists_its_topics(client: LanguageClient):
     launch = _launch(client)
     uri = open_doc(client, launch)
     line, col = _line_of(launch, 'type="omni_drive"')
-    h = await client.text_document_hover_async(types.HoverParams(
-        text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(line=line, character=col + 3)))
+    h = await _node_hover(client, uri, line, col + 3)
     assert h is not None
     md = h.contents.value
     assert "robot_drivers/omni_drive" in md
     assert "subscribes to `/base/cmd_vel_omni`" in md and "when `Nav`" in md
     assert "`/robot/odom`" in md and "provides `/base/set_mode`" in md
     line, col = _line_of(launch, 'type="mapper"')
-    h = await client.text_document_hover_async(types.HoverParams(
-        text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(line=line, character=col + 3)))
+    h = await _node_hover(client, uri, line, col + 3)
     assert h is not None and "no hints for nav/mapper" in h.contents.value
 
 
