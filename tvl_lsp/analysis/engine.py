@@ -24,8 +24,6 @@ import threading
 import time
 from typing import Iterable, Iterator, Mapping, Optional
 
-from pysat.solvers import Solver
-
 from ..base.diagnostics import Diagnostic, Related, Severity, register
 from ..tvl import model as M
 from ..base import formula as fm
@@ -33,7 +31,7 @@ from .configure import propagate as _propagate
 from .counting.errors import CancelLike, CountTimeout, EngineFailed
 from .counting.service import CNFCounter, Count, FeatureCounts
 from .encode import Element, Encoding, encode
-from .solve import SOLVER, Analyzer, Explanation
+from .solve import Analyzer, Explanation, products, smallest_product
 
 VOID_MODEL = register("void-model", Severity.ERROR,
                       "the feature model has no product: no selection of features satisfies it", "analysis")
@@ -389,68 +387,21 @@ class ModelAnalysis:
         return [named(p) for p in prods], engine
 
     # ------------------------------------------------------------------ products
-    def _solver(self, include=(), exclude=(), formula: Optional[fm.Formula] = None):
-        enc = self.encoding
-        s = Solver(name=SOLVER, bootstrap_with=enc.clauses())
-        for x in self._lits(include, exclude):
-            s.add_clause([x])
-        if formula is not None:
-            cls, _ = enc.formula_clauses(formula)
-            for c in cls:
-                s.add_clause(c)
-        return s
+    def _extra(self, formula: Optional[fm.Formula]) -> list[list[int]]:
+        return self.encoding.formula_clauses(formula)[0] if formula is not None else []
 
     def enumerate(self, limit: Optional[int] = 100, include: Iterable[str] = (), exclude: Iterable[str] = (),
                   formula: Optional[fm.Formula] = None) -> Iterator[dict[str, bool]]:
         """Products one by one (each a {feature name: selected} dict), at most ``limit``."""
-        s = self._solver(include, exclude, formula)
-        n = self.encoding.n_features
-        k = 0
-        try:
-            while limit is None or k < limit:
-                if not s.solve():
-                    return
-                m = s.get_model()
-                yield self._product(m)
-                k += 1
-                s.add_clause([-x for x in m[:n]])
-        finally:
-            s.delete()
+        for m in products(self.encoding, self._lits(include, exclude), self._extra(formula), limit):
+            yield self._product(m)
 
     def find_product(self, formula: Optional[fm.Formula] = None, include: Iterable[str] = (),
                      exclude: Iterable[str] = (), smallest: bool = True) -> Optional[dict[str, bool]]:
         """A product satisfying the formula and the partial configuration (the one with the
         fewest selected features when ``smallest``), or None when there is none."""
-        enc = self.encoding
-        s = self._solver(include, exclude, formula)
-        try:
-            if not s.solve():
-                return None
-            if not smallest:
-                return self._product(s.get_model())
-        finally:
-            s.delete()
-        from pysat.examples.rc2 import RC2
-        from pysat.formula import WCNF
-        w = WCNF()
-        for c in enc.clauses():
-            w.append(c)
-        for x in self._lits(include, exclude):
-            w.append([x])
-        if formula is not None:
-            for c in enc.formula_clauses(formula)[0]:
-                w.append(c)
-        for v in range(1, enc.n_features + 1):
-            w.append([-v], weight=1)
-        with RC2(w, solver=SOLVER) as rc2:
-            m = rc2.compute()
-        if m is None:
-            return None
-        full = [0] * enc.n_features
-        for x in m:
-            if 0 < abs(x) <= enc.n_features:
-                full[abs(x) - 1] = x
-        return self._product(full)
+        m = smallest_product(self.encoding, self._lits(include, exclude), self._extra(formula), smallest)
+        return None if m is None else self._product(m)
 
     # ------------------------------------------------------------------ configuration
     def propagate(self, decisions: Mapping[str, bool], count: bool = True,

@@ -15,14 +15,15 @@
 names (is it satisfiable, valid, the smallest witness product) for one pairing of a model and
 a launch file: one incremental solver over the model's CNF plus a Tseitin encoding of each
 queried formula.  :func:`decide` answers the configurator's (do these decisions conflict,
-which features do they force).
+which features do they force); :func:`products` and :func:`smallest_product` enumerate products
+and find the one with the fewest selected features (MaxSAT, RC2).
 """
 
 from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Iterable, Optional, Sequence
+from typing import Iterable, Iterator, Optional, Sequence
 
 from pysat.card import ITotalizer
 from pysat.solvers import Solver
@@ -529,3 +530,67 @@ class PairLogic:
             if self.solver.solve(assumptions=a + bound + fixed):
                 best = self.solver.get_model() or best
         return {name: on(best, v) for name, v in self.names}
+
+
+# ---------------------------------------------------------------------------- products
+def _product_solver(enc: Encoding, lits: Sequence[int], extra: Sequence[Sequence[int]] = ()) -> Solver:
+    s = Solver(name=SOLVER, bootstrap_with=enc.clauses())
+    for x in lits:
+        s.add_clause([x])
+    for c in extra:
+        s.add_clause(list(c))
+    return s
+
+
+def products(enc: Encoding, lits: Sequence[int] = (), extra: Sequence[Sequence[int]] = (),
+             limit: Optional[int] = 100) -> Iterator[list[int]]:
+    """The model's products under the literals ``lits`` and the clauses ``extra``, one by one
+    (each a model over the features' variables ``1..n_features``), at most ``limit``."""
+    s = _product_solver(enc, lits, extra)
+    n = enc.n_features
+    k = 0
+    try:
+        while limit is None or k < limit:
+            if not s.solve():
+                return
+            m = s.get_model()[:n]
+            yield m
+            k += 1
+            s.add_clause([-x for x in m])
+    finally:
+        s.delete()
+
+
+def smallest_product(enc: Encoding, lits: Sequence[int] = (), extra: Sequence[Sequence[int]] = (),
+                     smallest: bool = True) -> Optional[list[int]]:
+    """A product under ``lits`` and ``extra`` (the one with the fewest selected features when
+    ``smallest``: MaxSAT with RC2), as literals over ``1..n_features``; None when there is none."""
+    n = enc.n_features
+    s = _product_solver(enc, lits, extra)
+    try:
+        if not s.solve():
+            return None
+        if not smallest:
+            return s.get_model()[:n]
+    finally:
+        s.delete()
+    from pysat.examples.rc2 import RC2
+    from pysat.formula import WCNF
+    w = WCNF()
+    for c in enc.clauses():
+        w.append(c)
+    for x in lits:
+        w.append([x])
+    for c in extra:
+        w.append(list(c))
+    for v in range(1, n + 1):
+        w.append([-v], weight=1)
+    with RC2(w, solver=SOLVER) as rc2:
+        m = rc2.compute()
+    if m is None:
+        return None
+    full = [0] * n
+    for x in m:
+        if 0 < abs(x) <= n:
+            full[abs(x) - 1] = x
+    return full
