@@ -90,8 +90,8 @@ class ModelAnalysis:
         :func:`tvl_lsp.analysis.formats.parse_any_model` for its diagnostics)."""
         from .formats import parse_any_model
         if text is None:
-            with open(path, encoding="utf-8", errors="replace") as fh:
-                text = fh.read()
+            from ..base.files import read_text
+            text = read_text(path)
         return cls(parse_any_model(text, path).model)
 
     # ------------------------------------------------------------------ basics

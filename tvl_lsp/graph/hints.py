@@ -145,11 +145,13 @@ def parse_hints(path: str, text: str) -> ProjectHints:
     """The hints of one project file (empty when it has none or is not valid YAML)."""
     import yaml
 
+    from ..base import yamlsafe
+
     out = ProjectHints(sources=[path])
     if text is None or len(text) > MAX_BYTES or ("nodes" not in text and "hints" not in text):
         return out
     try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
+        root = yamlsafe.compose(text)
     except Exception:
         return out  # the project file's own check reports its YAML errors
     if not isinstance(root, yaml.MappingNode):

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from typing import Callable, Iterable, Optional, Sequence
 
 from ..base.diagnostics import Diagnostic, Related, Severity
+from ..base.files import unreadable_reason
 from .workspace import (Files, Pairing, Workspace, default_read_file, discover_files, find_workspace_root,
                         is_launch, is_model, is_xml_launch_candidate, is_yaml, launch_root_text, load_workspace,
                         norm)
@@ -78,6 +79,18 @@ def _load_model(path: str, read_file: ReadFile, text: Optional[str] = None,
     return _ModelInfo(path, res.model, diags, analysis, has_errors)
 
 
+def _unreadable(path: str) -> Optional[Diagnostic]:
+    """A ``file-unreadable`` error for a file the pipeline found but must not or cannot read
+    (a device, a FIFO, a file over the size cap; see :mod:`base.files`), or None when it
+    vanished (a file deleted since it was found is not a problem of the workspace)."""
+    from ..base.text import Pos, Span
+    why = unreadable_reason(path)
+    if why is None or not os.path.lexists(path):
+        return None
+    return Diagnostic(FILE_UNREADABLE, Severity.ERROR, path, Span(Pos(0, 0), Pos(0, 0)),
+                      f"{os.path.basename(path)} is not read: {why}")
+
+
 def _internal(path: str, msg: str) -> Diagnostic:
     from ..base.text import Pos, Span
     return Diagnostic("internal-error", Severity.ERROR, path, Span(Pos(0, 0), Pos(0, 0)), msg)
@@ -87,6 +100,10 @@ from ..base.diagnostics import register as _register  # noqa: E402
 
 INTERNAL_ERROR = _register("internal-error", Severity.ERROR,
                            "tvl-lsp failed while analysing a file (a bug: please report it)", "workspace")
+FILE_UNREADABLE = _register(
+    "file-unreadable", Severity.ERROR,
+    "a file in the workspace that tvl-lsp must not read (a device, a FIFO, a socket) or that is over the size cap",
+    "workspace")
 MODEL_NOT_CHECKABLE = _register(
     "paired-model-invalid", Severity.INFORMATION,
     "The launch file's model has syntax errors: the checks against it wait until they are fixed", "cross")
@@ -103,7 +120,10 @@ def check_model(path: str, text: Optional[str] = None, read_file: Optional[ReadF
     """A model's own diagnostics: syntax, types, and anomalies (void model, dead and
     false-optional features, ...)."""
     info = _load_model(path, read_file or default_read_file, text, True, timeout)
-    return info.diagnostics if info else []
+    if info is None:
+        d = _unreadable(path)
+        return [d] if d else []
+    return info.diagnostics
 
 
 def _launch_own(analysis) -> list[Diagnostic]:
@@ -125,7 +145,8 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
     if text is None:
         text = read_file(path)
     if text is None:
-        return []
+        d = _unreadable(path)
+        return [d] if d else []
     models = {} if models is None else models
     out: list[Diagnostic] = []
     done_alone = False
@@ -269,6 +290,8 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
             models[unit.model] = info
             if info is not None:
                 out += info.diagnostics
+            elif (d := _unreadable(unit.model)) is not None:
+                out.append(d)
         hints = {lf: (h, c) for lf, h, c in unit.hints}
         for lf, pairings, root in unit.launches:
             h, c = hints.get(lf, (None, None))

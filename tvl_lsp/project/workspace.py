@@ -54,6 +54,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Iterable, Optional
 
 from ..base.diagnostics import Diagnostic, Severity, register
+from ..base.files import read_bytes, read_head, read_text_or_none, unreadable_reason
 from ..base.text import LineIndex, Pos, Span
 from ..graph.hints import ProjectHints, parse_hints
 from ..launch.dialects import LAUNCH_SUFFIXES as _LAUNCH_SUFFIXES
@@ -102,12 +103,8 @@ def launch_stem(path: str) -> str:
 
 
 def default_read_file(path: str) -> Optional[str]:
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read()
-    except OSError:
-        return None
-    return data.decode("utf-8", errors="replace")
+    """The text of a regular file within the size cap, else None (see :mod:`base.files`)."""
+    return read_text_or_none(path)
 
 
 def norm(path: str) -> str:
@@ -154,12 +151,10 @@ def _looks_like_launch(path: str) -> bool:
     """An ``.xml`` / ``.test`` file whose root element is ``<launch>``."""
     if not is_xml_launch_candidate(path):
         return False
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(16384).decode("utf-8", "replace")
-    except OSError:
+    head = read_head(path, 16384)
+    if head is None:
         return False
-    return launch_root_text(head)
+    return launch_root_text(head.decode("utf-8", "replace"))
 
 
 def _classify(path: str, out: Files, explicit: bool = False) -> None:
@@ -181,15 +176,16 @@ def explicit_skip_reason(path: str) -> Optional[str]:
     to be and why that is not checked (one line); None when it is checked (a model, a launch
     file, an XML/rostest file with a ``<launch>`` root, a HAROS project file)."""
     base = os.path.basename(path)
+    why = unreadable_reason(path)
+    if why is not None:
+        return f"cannot be read: {why}"
     if is_model(path) or is_launch(path) or _looks_like_launch(path) or path.endswith(".cnf"):
         return None  # (a .cnf named on the command line is read as a DIMACS model)
     accepted = ("--check reads only models (.tvl, .uvl, .dimacs), launch files (.launch, .launch.xml, or .xml/.test "
                 "with a <launch> root) and HAROS project files (YAML with a top-level `configurations:`)")
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(4096)
-    except OSError as exc:
-        return f"cannot be read ({exc.strerror or exc})"
+    head = read_head(path, 4096)
+    if head is None:
+        return "cannot be read"
     if path.endswith(".launch.py"):
         return "taken to be a ROS 2 Python launch file, which --check does not read (it would have to run it)"
     if path.endswith((".launch.yaml", ".launch.yml")):
@@ -226,6 +222,8 @@ def discover_files(paths: Iterable[str]) -> Files:
                     _classify(os.path.join(dirpath, fn), out)
         elif os.path.isfile(p):
             _classify(p, out, explicit=True)
+        # anything else named explicitly (a device, a FIFO, a broken link) is not read: the
+        # command line says why (explicit_skip_reason)
     return out.dedupe()
 
 
@@ -265,11 +263,8 @@ def find_workspace_root(path: str, max_up: int = 12) -> str:
 
 def _looks_like_project(path: str) -> bool:
     try:
-        if os.path.getsize(path) > MAX_PROJECT_BYTES:
-            return False
-        with open(path, "rb") as fh:
-            head = fh.read()
-    except OSError:
+        head = read_bytes(path, MAX_PROJECT_BYTES)
+    except (OSError, ValueError):
         return False
     return re.search(rb"(?m)^configurations\s*:", head) is not None
 
@@ -413,6 +408,8 @@ def parse_project(path: str, text: str, packages: dict) -> Optional[ProjectFile]
     YAML without ``configurations``); malformed YAML that looks like one gets a diagnostic."""
     import yaml
 
+    from ..base import yamlsafe
+
     pf = ProjectFile(path=path)
     base_dir = os.path.dirname(path)
 
@@ -420,7 +417,7 @@ def parse_project(path: str, text: str, packages: dict) -> Optional[ProjectFile]
         pf.diagnostics.append(Diagnostic(code, sev, path, span, msg))
 
     try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
+        root = yamlsafe.compose(text)
     except yaml.YAMLError as exc:
         if not re.search(r"(?m)^configurations\s*:", text):
             return None

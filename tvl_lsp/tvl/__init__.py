@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from ..base.diagnostics import Diagnostic, Fix, Severity, TextEdit, register
+from ..base.files import inside, model_workspace, read_text_or_none, unreadable_reason
 from . import model
 from .lexer import Tok, TooManyTokens, tokenize
 from .model import Model
@@ -51,11 +52,7 @@ class TvlResult:
 
 
 def _default_read(path: str) -> Optional[str]:
-    try:
-        with open(path, encoding="utf-8", errors="replace") as fh:
-            return fh.read()
-    except OSError:
-        return None
+    return read_text_or_none(path)  # regular files within the size cap only
 
 
 def parse_model(text: str, path: str, read_file: Callable[[str], Optional[str]] | None = None) -> TvlResult:
@@ -154,13 +151,22 @@ def _load(text, path, smap: SourceMap, out: list[Tok], diags, mdl: Model, read, 
             if depth >= MAX_INCLUDE_DEPTH:
                 diags.append(Diagnostic(C_INC_CYCLE, E, path, smap.span(s, e), "includes nested too deeply"))
                 continue
+            home = model_workspace(stack[0])
+            if not inside(target, [home]):
+                # never read (nor quote in a diagnostic) a file outside the model's workspace
+                diags.append(Diagnostic(C_INC_MISSING, E, path, smap.span(s, e),
+                                        f"included file '{inc_text}' is outside the model's workspace ({home}): "
+                                        "it is not read", data={"target": target}))
+                continue
             try:
                 sub = read(target)
             except Exception:
                 sub = None
             if sub is None:
+                why = unreadable_reason(target)
                 diags.append(Diagnostic(C_INC_MISSING, E, path, smap.span(s, e),
-                                        f"cannot read included file '{inc_text}' ({target})",
+                                        f"cannot read included file '{inc_text}' ({target})"
+                                        + (f": {why}" if why and os.path.lexists(target) else ""),
                                         data={"target": target}))
                 continue
             inc.resolved = target

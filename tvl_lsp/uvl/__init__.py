@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from ..base.diagnostics import Diagnostic, Severity
+from ..base.files import read_text_or_none
 from ..tvl.model import Model
 
 __all__ = ["parse_uvl", "UvlResult"]
@@ -31,11 +32,7 @@ class UvlResult:
 
 
 def _default_read(path: str) -> Optional[str]:
-    try:
-        with open(path, encoding="utf-8", errors="replace") as fh:
-            return fh.read()
-    except OSError:
-        return None
+    return read_text_or_none(path)  # regular files within the size cap only
 
 
 def parse_uvl(text: str, path: str, read_file: Callable[[str], Optional[str]] | None = None) -> UvlResult:

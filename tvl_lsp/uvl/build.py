@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from ..base.diagnostics import Diagnostic, Related, Severity, register
+from ..base.files import inside, model_workspace
 from ..base.text import LineIndex, Span
 from ..tvl import model as M
 from ..tvl.parser import _single_file_span  # the hot-path Span maker (no dataclass __init__)
@@ -144,6 +145,14 @@ class UvlBuilder:
             cands = [os.path.normpath(os.path.join(here, rel))]
             if main_dir != here:
                 cands.append(os.path.normpath(os.path.join(main_dir, rel)))
+            home = model_workspace(self.path)
+            if not any(inside(c, [home]) for c in cands):  # never read a file outside the workspace
+                self.diag(C_IMPORT_MISSING, path, f.span(imp.ref.start, imp.ref.end),
+                          f"the imported model '{imp.ref.text}' is outside the model's workspace ({home}): "
+                          "it is not read", data={"target": cands[0]})
+                f.imports[alias] = None
+                continue
+            cands = [c for c in cands if inside(c, [home])]
             target = None
             sub = None
             for c in cands:

@@ -120,7 +120,7 @@ class ArgTyping:
         result; None when it reads no marked arg (then it is evaluated as usual)."""
         try:
             tree = S.parse_eval(value[7:-1])
-        except S.SubstError:
+        except (S.SubstError, S.NotAnalysable):
             return None
         marked: dict[str, set[str]] = {}
         for name, kind in _reads(tree):

@@ -28,6 +28,7 @@ from typing import Iterable, Mapping, Optional
 from ...base.formula import FALSE, TRUE, Formula, Var, disj, neg, variables
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import LineIndex, Span
+from ...base.files import inside, is_regular, read_text_or_none
 from . import subst as S
 from ..model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
                     ParamFact, Subst)
@@ -66,6 +67,9 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
         self.read_file = read_file
         self.env = env
         self.packages = dict(packages) if packages is not None else find_packages(workspace_root)
+        # the symbolic walk (--check, the editor) reads files inside the workspace and its
+        # packages only: a file elsewhere is never read, so never quoted in a diagnostic
+        self.confine = ([workspace_root] + list(self.packages.values())) if workspace_root and not concrete else None
         self.facts: list[ErrorFact] = []
         self.nodes: list[NodeFact] = []
         self.params: list[ParamFact] = []
@@ -101,6 +105,8 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
     # ---------------------------------------------------------------- files
 
     def read(self, path: str) -> Optional[str]:
+        if self.confine is not None and not inside(path, self.confine):
+            return None
         if self.read_file is not None:
             try:
                 t = self.read_file(path)
@@ -108,13 +114,7 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
                 t = None
             if t is not None:
                 return t
-        try:
-            if os.path.getsize(path) > 25_000_000:
-                return None
-            with open(path, encoding="utf-8", errors="replace") as f:
-                return f.read()
-        except OSError:
-            return None
+        return read_text_or_none(path)  # regular files within the size cap only
 
     def exists(self, path: str) -> bool:
         if self.read_file is not None:
@@ -123,7 +123,7 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
                     return True
             except Exception:
                 pass
-        return os.path.isfile(path)
+        return is_regular(path)
 
     def unit(self, path: str, text: Optional[str] = None, doc: Optional[XmlDoc] = None) -> Optional[_Unit]:
         if path in self.units:

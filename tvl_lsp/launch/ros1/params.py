@@ -14,6 +14,7 @@ from typing import Any, Optional
 
 import yaml
 
+from ...base.files import unreadable_reason
 from ...base.formula import FALSE, TRUE, Formula, conj, disj
 from ...base.text import Span
 from ..model import Element, ParamFact
@@ -139,8 +140,10 @@ class ParamRules:
                     self.fact(PARAM_INVALID, f"Invalid <param> tag: {e}", el, self.aspan(el, "value"), c)
             elif kind in ("textfile", "binfile"):
                 if UNRESOLVED not in v and not self.exists(v):
-                    self.fact(FILE_NOT_FOUND, f"Invalid <param> tag: [Errno 2] No such file or directory: '{v}'", el,
-                              self.aspan(el, kind), c)
+                    why = unreadable_reason(v) if os.path.lexists(v) else None
+                    msg = (f"Invalid <param> tag: '{v}' is not read: {why}" if why else
+                           f"Invalid <param> tag: [Errno 2] No such file or directory: '{v}'")
+                    self.fact(FILE_NOT_FOUND, msg, el, self.aspan(el, kind), c)
                     continue
                 pvals.append((c, v, v, kind))
             elif kind == "command":
@@ -231,8 +234,10 @@ class ParamRules:
                     cc = conj([c, c2])
                     if cc == FALSE:
                         continue
-                    if cmd == "load" and UNRESOLVED not in f and not os.path.isfile(f) and not self.exists(f):
-                        self.fact(FILE_NOT_FOUND, f"{PRE}file does not exist [{f}]", el, self.aspan(el, "file"), cc)
+                    if cmd == "load" and UNRESOLVED not in f and not self.exists(f):
+                        why = unreadable_reason(f) if os.path.lexists(f) else None
+                        msg = f"{PRE}file [{f}] is not read: {why}" if why else f"{PRE}file does not exist [{f}]"
+                        self.fact(FILE_NOT_FOUND, msg, el, self.aspan(el, "file"), cc)
                     elif cmd == "delete":
                         self.fact(PARAM_INVALID, f"{PRE}'file' attribute is invalid with 'delete' command.", el,
                                   self.aspan(el, "file"), cc)

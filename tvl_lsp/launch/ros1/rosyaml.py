@@ -24,6 +24,9 @@ from typing import Any
 
 import yaml
 
+from ...base import yamlsafe
+from .. import evalguard as guard
+
 try:  # libyaml's parser when available (same results, faster)
     _Base = yaml.CSafeLoader  # type: ignore[attr-defined]
 except AttributeError:  # pragma: no cover
@@ -45,7 +48,9 @@ _OPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, as
 def _arith(expr: str) -> float:
     """``float(eval(expr))`` for the arithmetic a ``!radians`` value holds."""
     try:
-        tree = ast.parse(expr.strip(), mode="eval")
+        tree = guard.parse(expr.strip())
+    except guard.TooBig:
+        raise RosYamlError(f"radian expression too long or too deeply nested to analyse: {expr[:80]}") from None
     except SyntaxError:
         raise RosYamlError(f"invalid radian expression: {expr}") from None
     steps = [0]
@@ -65,6 +70,10 @@ def _arith(expr: str) -> float:
             a, b = ev(n.left), ev(n.right)
             if isinstance(n.op, ast.Pow) and abs(b) > 1000:
                 raise RosYamlError(f"radian expression too large: {expr}")
+            try:
+                guard.check_binop(_OPS[type(n.op)], a, b)
+            except guard.TooBig:
+                raise RosYamlError(f"radian expression too large: {expr[:80]}") from None
             return _OPS[type(n.op)](a, b)
         if isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name) and n.value.id == "math":
             v = getattr(math, n.attr, None)
@@ -75,7 +84,12 @@ def _arith(expr: str) -> float:
             f = ev(n.func)
             if not callable(f):
                 raise RosYamlError(f"'{type(f).__name__}' object is not callable")
-            return f(*[ev(a) for a in n.args])
+            args = [ev(a) for a in n.args]
+            try:
+                guard.check_call(f, args)
+                return guard.bounded(f(*args))
+            except guard.TooBig:
+                raise RosYamlError(f"radian expression too large: {expr[:80]}") from None
         if isinstance(n, ast.Name):
             raise RosYamlError(f"name '{n.id}' is not defined")
         raise RosYamlError(f"invalid radian expression: {expr}")
@@ -84,6 +98,8 @@ def _arith(expr: str) -> float:
         return float(ev(tree))
     except RosYamlError:
         raise
+    except (RecursionError, MemoryError):
+        raise RosYamlError(f"radian expression too deeply nested to analyse: {expr[:80]}") from None
     except (ArithmeticError, ValueError, TypeError, OverflowError) as e:
         raise RosYamlError(f"{type(e).__name__}: {e}") from None
 
@@ -129,6 +145,6 @@ def load(text: str) -> Any:
     """``yaml.safe_load(text)`` as roslaunch runs it (rosparam's tags).  Raises
     ``yaml.YAMLError`` (``RosYamlError`` when a rosparam constructor fails)."""
     try:
-        return yaml.load(text, Loader=RosparamLoader)  # noqa: S506 - a safe loader subclass
+        return yamlsafe.load(text, RosparamLoader)  # a safe loader subclass; alias bombs refused
     except RecursionError:
         raise RosYamlError("the YAML is nested too deeply") from None

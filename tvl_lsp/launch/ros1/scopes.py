@@ -308,6 +308,10 @@ class ScopeRules:
         except S.SubstError as e:
             self.fact(EVAL_ERROR, str(e), el, span, guard)
             return []
+        except S.NotAnalysable:
+            self.note(CONDITION_NOT_ANALYSABLE, f"'$(eval ...)' is too long or nested too deeply for tvl-lsp to "
+                      "evaluate; it assumes the value may be anything", el, span)
+            return [(guard, opaque(value))]
         names, ok = S.eval_names(tree)
         if not ok:
             self.note(CONDITION_NOT_ANALYSABLE, f"tvl-lsp cannot translate '$(eval {expr.strip()})' into a "

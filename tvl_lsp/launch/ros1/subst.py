@@ -15,6 +15,8 @@ import operator
 import re
 from typing import Callable, Mapping
 
+from .. import evalguard as guard
+
 VALID = ("find", "env", "optenv", "dirname", "anon", "arg")
 
 
@@ -115,7 +117,9 @@ def parse_eval(expr: str) -> ast.Expression:
     if "__" in expr:
         raise SubstError("$(eval ...) may not contain double underscore expressions")
     try:
-        return ast.parse(expr.strip(), mode="eval")
+        return guard.parse(expr.strip())
+    except guard.TooBig:
+        raise NotAnalysable() from None
     except SyntaxError as e:
         raise SubstError(f"invalid $(eval) expression: {e.msg}") from None
 
@@ -181,9 +185,12 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
     def sized(v):
         if isinstance(v, (str, list, tuple, dict, set)) and len(v) > MAX_BUILD:
             raise NotAnalysable()
-        return v
+        return guard.bounded(v)
+
+    steps = guard.Steps()
 
     def ev(n):
+        steps.tick()
         if isinstance(n, ast.Expression):
             return ev(n.body)
         if isinstance(n, ast.Constant):
@@ -223,7 +230,8 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
             if op is operator.mul and (isinstance(a, str) or isinstance(b, str)):
                 if (isinstance(a, int) and a > 10000) or (isinstance(b, int) and b > 10000):
                     raise NotAnalysable()
-            return op(a, b)
+            guard.check_binop(op, a, b)
+            return sized(op(a, b))
         if isinstance(n, ast.Compare):
             left = ev(n.left)
             for op, right in zip(n.ops, n.comparators):
@@ -293,6 +301,7 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
                 return r
             if fname in _BUILTINS or fname in _SAFE_FUNCS:
                 f = _BUILTINS.get(fname) or _SAFE_FUNCS[fname]
+                guard.check_call(f, vals)
                 if fname == "format" and len(vals) > 1 and isinstance(vals[1], str) and _WIDTH.search(vals[1]):
                     raise NotAnalysable()
                 return sized(f(*vals, **kws))
@@ -316,14 +325,15 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
             f = _MATH.get(fname)
             if f is None or not callable(f):
                 raise NotAnalysable()
-            return f(*vals)
+            guard.check_call(f, vals)
+            return sized(f(*vals))
         raise NotAnalysable()
 
     try:
         return str(ev(tree))
     except (EvalArgMissing, NotAnalysable, SubstError):
         raise
-    except RecursionError:
+    except (RecursionError, MemoryError, guard.TooBig):
         raise NotAnalysable() from None
     except Exception as e:  # a runtime error roslaunch's eval would raise too
         raise SubstError(f"$(eval) failed: {type(e).__name__}: {e}") from None

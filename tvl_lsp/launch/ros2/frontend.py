@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 import yaml
+from ...base import yamlsafe
 
 from ...base.diagnostics import Diagnostic, Severity
 from ...base.text import LineIndex, Span
@@ -64,7 +65,7 @@ class RAttr:
 
 def _yaml_scalar(text: str):
     try:
-        return yaml.safe_load(text)
+        return yamlsafe.safe_load(text)
     except Exception:
         raise ValueError(text)
 
@@ -91,7 +92,7 @@ def coerce(value: str, data_type, can_be_str: bool = True):
         if not v:
             return v
         try:
-            out = yaml.safe_load(v)
+            out = yamlsafe.safe_load(v)
         except Exception:
             if can_be_str:
                 return v
@@ -424,7 +425,7 @@ def parse_yaml_launch(text: str, path: str) -> Document:
         out.error = ("ParseError", msg, idx.span(0, 0))
         return out
     try:
-        node = yaml.compose(text, Loader=yaml.SafeLoader)
+        node = yamlsafe.compose(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
         off = _mark_offset(idx, mark) if mark is not None else 0

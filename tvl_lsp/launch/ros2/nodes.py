@@ -6,6 +6,7 @@ import os
 from typing import Optional
 
 import yaml
+from ...base import yamlsafe
 
 from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
 from ..model import Element
@@ -281,7 +282,7 @@ class NodeRules:
             if opaque(out):
                 continue
             try:
-                yaml.safe_load(out)
+                yamlsafe.safe_load(out)
             except Exception:
                 self.fact(INVALID_VALUE, f"the parameter file '{f}' is not valid YAML once its substitutions are "
                           "made", pel.path, span, cv,

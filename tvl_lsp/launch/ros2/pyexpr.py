@@ -16,6 +16,11 @@ import ast
 import builtins
 import math
 import operator
+import re
+
+from .. import evalguard as guard
+
+_WIDTH = re.compile(r"\d{6,}")  # a format width / precision that would build a huge string
 
 
 class NotAnalysable(Exception):
@@ -57,7 +62,9 @@ def evaluate(text: str, modules: tuple[str, ...] = ("math",)) -> str:
         tree = compile(text, "<string>", "eval", ast.PyCF_ONLY_AST, dont_inherit=True)
     except SyntaxError as e:
         raise EvalFailure("SyntaxError", str(e))
-    except (ValueError, MemoryError, RecursionError) as e:
+    except (MemoryError, RecursionError):  # nesting beyond Python's parser: not analysed here
+        raise NotAnalysable() from None
+    except ValueError as e:
         raise EvalFailure(type(e).__name__, str(e))
     names = dict(_BUILTINS)
     if "math" in modules:
@@ -69,7 +76,7 @@ def evaluate(text: str, modules: tuple[str, ...] = ("math",)) -> str:
         return str(_Eval(names).ev(tree))
     except (EvalFailure, NotAnalysable):
         raise
-    except RecursionError:
+    except (RecursionError, MemoryError, guard.TooBig):
         raise NotAnalysable() from None
     except Exception as e:  # an error Python's eval raises too
         raise EvalFailure(type(e).__name__, str(e)) from None
@@ -82,7 +89,7 @@ class _Eval:
 
     def ev(self, n):
         self.steps += 1
-        if self.steps > 10_000:
+        if self.steps > guard.MAX_STEPS:
             raise NotAnalysable()
         if isinstance(n, ast.Expression):
             return self.ev(n.body)
@@ -128,7 +135,8 @@ class _Eval:
                 k = b if isinstance(b, int) else a if isinstance(a, int) else 0
                 if k > 100_000:
                     raise NotAnalysable()
-            return op(a, b)
+            guard.check_binop(op, a, b)
+            return guard.bounded(op(a, b))
         if isinstance(n, ast.Compare):
             left = self.ev(n.left)
             for op, right in zip(n.ops, n.comparators):
@@ -168,9 +176,19 @@ class _Eval:
             if isinstance(n.func, ast.Attribute):
                 obj = self.ev(n.func.value)
                 if isinstance(obj, str) and n.func.attr in _STR_METHODS:
-                    return getattr(obj, n.func.attr)(*[self.ev(a) for a in n.args])
+                    args = [self.ev(a) for a in n.args]
+                    if n.func.attr == "replace" and len(args) >= 2 and isinstance(args[1], str) and \
+                            len(obj) * max(len(args[1]), 1) > guard.MAX_LEN:
+                        raise NotAnalysable()
+                    if n.func.attr == "format" and _WIDTH.search(obj):
+                        raise NotAnalysable()
+                    guard.check_call(None, args)
+                    return guard.bounded(getattr(obj, n.func.attr)(*args))
                 if obj is math and hasattr(math, n.func.attr) and not n.func.attr.startswith("_"):
-                    return getattr(math, n.func.attr)(*[self.ev(a) for a in n.args])
+                    f = getattr(math, n.func.attr)
+                    args = [self.ev(a) for a in n.args]
+                    guard.check_call(f, args)
+                    return guard.bounded(f(*args))
                 raise NotAnalysable()
             f = self.ev(n.func)
             if not callable(f) or (f not in _BUILTINS.values() and f not in _MATH.values()):
@@ -182,5 +200,8 @@ class _Eval:
                 raise NotAnalysable()
             if f in (math.factorial, math.comb, math.perm) and any(isinstance(a, int) and a > 1000 for a in args):
                 raise NotAnalysable()
-            return f(*args)
+            if f is format and len(args) > 1 and isinstance(args[1], str) and _WIDTH.search(args[1]):
+                raise NotAnalysable()
+            guard.check_call(f, args)
+            return guard.bounded(f(*args))
         raise NotAnalysable()

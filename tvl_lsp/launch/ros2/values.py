@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from typing import Mapping, Optional
 
 import yaml
+from ...base import yamlsafe
 
 from ...base.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, disj
 from ...base.diagnostics import Severity, register
@@ -235,9 +236,9 @@ def typed_bool(v: str):
     s = "true" if v == "1" else "false" if v == "0" else v
     if s:
         try:
-            out = yaml.safe_load(s)
+            out = yamlsafe.safe_load(s)
         except Exception:
-            return f"Failed to convert '{s}' to '<class 'bool'>': yaml.safe_load() failed"
+            return f"Failed to convert '{s}' to '<class 'bool'>': yamlsafe.safe_load() failed"
         if isinstance(out, bool):
             return out
     return f"Cannot convert value '{s}' to '<class 'bool'>'"
@@ -415,7 +416,7 @@ def _yaml_value(s: str):
     if not s:
         return s
     try:
-        v = yaml.safe_load(s)
+        v = yamlsafe.safe_load(s)
     except Exception:
         return s
     if isinstance(v, (str, int, float, bool, list)):

@@ -27,6 +27,7 @@ from typing import Mapping, Optional
 from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import Span
+from ...base.files import inside, is_regular, read_text_or_none
 from ..model import Element, ErrorFact, IncludeFact
 from . import actions as A
 from . import subst as S
@@ -57,6 +58,9 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.env = env
         self.read_file = read_file
         self.root = workspace_root
+        # the symbolic walk reads files inside the workspace and its packages only (see ros1)
+        self.confine = ([workspace_root] + list(self.packages.values()) + list(self.installed.values())
+                        if workspace_root and not concrete else None)
         self.stub = stub_packages
         self.facts: list[ErrorFact] = []
         self.nodes: list[Node2Fact] = []
@@ -109,6 +113,8 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.facts.append(LaunchFact(code, severity, message, path, span, TRUE, []))
 
     def read(self, path: str) -> Optional[str]:
+        if self.confine is not None and not inside(path, self.confine):
+            return None
         if self.read_file is not None:
             try:
                 t = self.read_file(path)
@@ -116,13 +122,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
                 t = None
             if t is not None:
                 return t
-        try:
-            if os.path.getsize(path) > 25_000_000:
-                return None
-            with open(path, encoding="utf-8", errors="replace") as f:
-                return f.read()
-        except OSError:
-            return None
+        return read_text_or_none(path)  # regular files within the size cap only
 
     def exists(self, path: str) -> bool:
         if self.read_file is not None:
@@ -131,7 +131,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
                     return True
             except Exception:
                 pass
-        return os.path.isfile(path)
+        return is_regular(path)
 
     def unit(self, path: str, text: Optional[str] = None) -> Optional[Unit]:
         if path in self.units:

@@ -1,0 +1,178 @@
+"""Bounded reading of files: only regular files, up to a size cap, never blocking.
+
+Every file tvl-lsp reads on its own (models, included models and launch files, rosparam and
+``textfile`` files, package manifests, project files) goes through :func:`read_text` or
+:func:`read_head`.  They refuse, with a reason a user can act on, what must never be read:
+
+- anything that is not a regular file: character and block devices (``/dev/zero``,
+  ``/dev/stdin``), FIFOs (opening one for reading would block until a writer comes), sockets
+  and folders; a symbolic link counts as what it points to;
+- a regular file larger than the cap (``MAX_BYTES`` by default, per call otherwise).
+
+The file is stat-ed before it is opened (a device is never opened), opened non-blocking, and
+stat-ed again through the open descriptor (a file swapped for a FIFO in between is still
+refused); at most ``cap + 1`` bytes are read, so a file that grows while it is read cannot
+exhaust memory either.
+
+:func:`inside` tells whether a path lies inside one of some folders (symbolic links resolved):
+the check pipeline uses it to refuse to read and quote files outside the workspace.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+from typing import Iterable, Optional
+
+MAX_BYTES = 25 * 1024 * 1024  # the largest text file tvl-lsp reads (a 400,000-line model is ~10 MB)
+
+_KINDS = (
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISFIFO, "a FIFO (named pipe)"),
+    (stat.S_ISSOCK, "a socket"),
+    (stat.S_ISDIR, "a folder"),
+)
+
+
+class Unreadable(OSError):
+    """A file tvl-lsp refuses to read; ``reason`` completes "cannot read PATH: ..." """
+
+    def __init__(self, path: str, reason: str):
+        super().__init__(f"{path}: {reason}")
+        self.path = path
+        self.reason = reason
+
+
+def _kind(mode: int) -> Optional[str]:
+    if stat.S_ISREG(mode):
+        return None
+    for test, name in _KINDS:
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def _mb(n: int) -> str:
+    return f"{n / (1024 * 1024):.0f} MB" if n >= 1024 * 1024 else f"{n:,} bytes"
+
+
+def _check(path: str, st: os.stat_result, cap: int) -> None:
+    kind = _kind(st.st_mode)
+    if kind is not None:
+        raise Unreadable(path, f"it is {kind}, not a regular file; only regular files are read")
+    if st.st_size > cap:
+        raise Unreadable(path, f"it is {_mb(st.st_size)}; files larger than {_mb(cap)} are not read")
+
+
+def read_bytes(path: str, cap: int = MAX_BYTES, *, head: bool = False) -> bytes:
+    """The bytes of the regular file at ``path`` (its first ``cap`` bytes when ``head``).
+
+    Raises :class:`Unreadable` for what is not a regular file or (unless ``head``) is larger
+    than ``cap``, and ``OSError`` when the file cannot be opened."""
+    _check(path, os.stat(path), cap if not head else float("inf"))  # type: ignore[arg-type]
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    try:
+        _check(path, os.fstat(fd), cap if not head else float("inf"))  # type: ignore[arg-type]
+        chunks: list[bytes] = []
+        left = cap if head else cap + 1
+        while left > 0:
+            b = os.read(fd, min(left, 1 << 20))
+            if not b:
+                break
+            chunks.append(b)
+            left -= len(b)
+    finally:
+        os.close(fd)
+    data = b"".join(chunks)
+    if not head and len(data) > cap:
+        raise Unreadable(path, f"it grew past {_mb(cap)} while it was read; files larger than that are not read")
+    return data
+
+
+def read_text(path: str, cap: int = MAX_BYTES) -> str:
+    """The text of the regular file at ``path`` (UTF-8, undecodable bytes replaced).
+
+    Raises :class:`Unreadable` or ``OSError`` (see :func:`read_bytes`)."""
+    return read_bytes(path, cap).decode("utf-8", errors="replace")
+
+
+def read_text_or_none(path: str, cap: int = MAX_BYTES) -> Optional[str]:
+    """:func:`read_text`, or None for anything that cannot or must not be read."""
+    try:
+        return read_text(path, cap)
+    except (OSError, ValueError):
+        return None
+
+
+def read_head(path: str, n: int) -> Optional[bytes]:
+    """The first ``n`` bytes of a regular file of any size, or None (not a regular file, or
+    it cannot be opened)."""
+    try:
+        return read_bytes(path, n, head=True)
+    except (OSError, ValueError):
+        return None
+
+
+def unreadable_reason(path: str, cap: int = MAX_BYTES) -> Optional[str]:
+    """Why the file at ``path`` cannot be read (the text after "cannot read PATH: "), or None
+    when it is a regular file within the cap."""
+    try:
+        _check(path, os.stat(path), cap)
+    except Unreadable as exc:
+        return exc.reason
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    return None
+
+
+def is_regular(path: str) -> bool:
+    """A regular file (symbolic links followed)."""
+    try:
+        return stat.S_ISREG(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        return False
+
+
+def inside(path: str, folders: Iterable[str]) -> bool:
+    """Whether ``path`` lies in one of ``folders`` (or is one), symbolic links resolved."""
+    try:
+        p = os.path.realpath(path)
+    except (OSError, ValueError):
+        return False
+    for f in folders:
+        try:
+            r = os.path.realpath(f)
+        except (OSError, ValueError):
+            continue
+        if p == r or p.startswith(r.rstrip(os.sep) + os.sep):
+            return True
+    return False
+
+
+_ROOT_MARKERS = (".git", ".catkin_workspace", ".catkin_tools", ".tvl-lsp")
+
+
+def model_workspace(path: str, max_up: int = 12) -> str:
+    """The folder a model's includes and imports must stay inside: the nearest ancestor of the
+    model holding a workspace marker (``.git``, ``.catkin_workspace``, ``.catkin_tools``,
+    ``.tvl-lsp``), else the parent of the innermost ``src`` folder above it, else the model's
+    own folder.  Includes outside it are refused (never read, never quoted in a diagnostic)."""
+    d = os.path.dirname(os.path.abspath(path))
+    cur = d
+    for _ in range(max_up):
+        try:
+            names = set(os.listdir(cur))
+        except OSError:
+            names = set()
+        if names & set(_ROOT_MARKERS):
+            return cur
+        parent = os.path.dirname(cur)
+        if parent == cur:
+            break
+        cur = parent
+    parts = d.split(os.sep)
+    if "src" in parts:
+        i = len(parts) - 1 - parts[::-1].index("src")
+        return os.sep.join(parts[:i]) or os.sep
+    return d
