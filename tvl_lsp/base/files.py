@@ -176,3 +176,9 @@ def model_workspace(path: str, max_up: int = 12) -> str:
         i = len(parts) - 1 - parts[::-1].index("src")
         return os.sep.join(parts[:i]) or os.sep
     return d
+
+
+def read_head_text(path: str, n: int) -> Optional[str]:
+    """:func:`read_head` decoded as UTF-8 (undecodable bytes replaced), or None."""
+    b = read_head(path, n)
+    return None if b is None else b.decode("utf-8", errors="replace")

@@ -84,7 +84,7 @@ def _ros2_packages(packages: Mapping[str, str]) -> dict[str, str]:
     return {k: os.path.realpath(v) for k, v in packages.items()}
 
 
-_INCLUDE_XML = re.compile(r"<include\b[^>]*?\bfile\s*=\s*(?:\"([^\"]*)\"|'([^']*)')", re.S)
+_INCLUDE_XML = re.compile(r"<include\b[^>]{0,4000}?\bfile\s*=\s*(?:\"([^\"]*)\"|'([^']*)')", re.S)
 _INCLUDE_YAML = re.compile(r"^\s*-?\s*(?:include\s*:\s*\{[^}\n]*?\bfile\s*:|file\s*:)\s*[\"']?([^\"'\n,}]+)", re.M)
 
 

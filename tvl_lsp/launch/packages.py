@@ -6,6 +6,9 @@ import os
 import re
 from functools import lru_cache
 
+from ..base.files import read_head
+from .xml import strip_comments
+
 _NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 _SKIP = {".git", "build", "devel", "install", "node_modules", ".venv", "__pycache__", "log", ".hg"}
 MAX_DIRS = 20000
@@ -43,11 +46,10 @@ def _scan(root: str) -> dict[str, str]:
             continue
         if "package.xml" in filenames:
             dirnames[:] = []  # packages do not nest
-            try:
-                with open(os.path.join(dirpath, "package.xml"), encoding="utf-8", errors="replace") as f:
-                    text = _COMMENT.sub("", f.read(200_000))
-            except OSError:
+            head = read_head(os.path.join(dirpath, "package.xml"), 200_000)  # regular files only
+            if head is None:
                 continue
+            text = strip_comments(head.decode("utf-8", "replace"))
             if _METAPACKAGE.search(text):
                 continue
             m = _NAME.search(text)

@@ -26,6 +26,7 @@ XML_TOO_DEEP = register("launch-too-deep", Severity.ERROR,
 
 MAX_TEXT = 20_000_000      # characters
 MAX_DEPTH = 100            # element nesting analysed
+MAX_ELEMENTS = 10_000      # elements analysed (real launch files have hundreds at most)
 
 
 @dataclass
@@ -241,6 +242,11 @@ def parse_xml(text: str, path: str) -> XmlDoc:
                                 "XML entity declarations are refused: tvl-lsp never expands entities "
                                 "(entity bombs, external files); roslaunch files do not need them"))
         return XmlDoc(path, text, index, None, diags, refused=True)
+    bad = _bad_character(text)
+    if bad is not None:
+        (s, e), msg = bad
+        diags.append(Diagnostic(XML_SYNTAX, Severity.ERROR, path, index.span(s, e), f"Invalid roslaunch XML syntax: {msg}"))
+        return XmlDoc(path, text, index, None, diags)
     data = text.encode("utf-8")
     if text.lstrip().startswith("<?xml"):
         # lxml refuses str input with an encoding declaration; bytes with a utf-8 body are fine
@@ -265,9 +271,40 @@ def parse_xml(text: str, path: str) -> XmlDoc:
         root_el = None
     if root_el is None:
         return XmlDoc(path, text, index, None, diags)
+    n_el = sum(1 for _ in root_el.iter())
+    if n_el > MAX_ELEMENTS:
+        diags.append(Diagnostic(XML_TOO_LARGE, Severity.ERROR, path, index.span(0, 0),
+                                f"the file has {n_el:,} XML elements; tvl-lsp analyses launch files of at most "
+                                f"{MAX_ELEMENTS:,} elements (real ones have hundreds)"))
+        return XmlDoc(path, text, index, None, diags, refused=True)
     raw = _scan(text)
     root = _build(root_el, raw, text, index, path, diags)
     return XmlDoc(path, text, index, root, diags)
+
+
+_SURROGATE = re.compile("[\ud800-\udfff]")
+_CHARREF = re.compile(r"&#(x[0-9a-fA-F]+|[0-9]+);")
+
+
+def _xml_char(cp: int) -> bool:
+    """XML 1.0's Char production."""
+    return cp in (0x9, 0xA, 0xD) or 0x20 <= cp <= 0xD7FF or 0xE000 <= cp <= 0xFFFD or 0x10000 <= cp <= 0x10FFFF
+
+
+def _bad_character(text: str):
+    """The first character no XML parser accepts: a lone UTF-16 surrogate in the text (an
+    editor's buffer can hold one) or a character reference to a code point XML forbids
+    (``&#xD800;``, ``&#0;``), as ((start, end), message); None when there is none."""
+    m = _SURROGATE.search(text)
+    if m is not None:
+        return (m.start(), m.end()), f"an unpaired UTF-16 surrogate (U+{ord(m.group()):04X}) is not a character"
+    if "&#" in text:
+        for m in _CHARREF.finditer(text):
+            g = m.group(1)
+            cp = int(g[1:], 16) if g[0] == "x" else int(g) if len(g) < 10 else -1
+            if not _xml_char(cp):
+                return (m.start(), m.end()), f"reference to invalid character number ({m.group()})"
+    return None
 
 
 def _build(root_el, raw: list[_RawTag], text: str, index: LineIndex, path: str,
@@ -428,3 +465,42 @@ def text_offsets(doc_text: str, x: XElement) -> list[int] | None:
     if "".join(chars) != x.text:
         return None
     return offs
+
+
+def strip_comments(text: str) -> str:
+    """``text`` without its XML comments, in linear time (an unclosed ``<!--`` runs to the
+    end, as for a parser; a regular expression would rescan the rest for every ``<!--``)."""
+    if "<!--" not in text:
+        return text
+    out: list[str] = []
+    i = 0
+    while True:
+        j = text.find("<!--", i)
+        if j < 0:
+            out.append(text[i:])
+            break
+        out.append(text[i:j])
+        k = text.find("-->", j + 4)
+        if k < 0:
+            break
+        i = k + 3
+    return "".join(out)
+
+
+def skip_prolog(text: str) -> str:
+    """What follows the XML declaration, processing instructions, comments, a DOCTYPE and
+    white space at the start of ``text`` (linear time)."""
+    i, n = 0, len(text)
+    while i < n:
+        while i < n and text[i] in " \t\r\n\ufeff":
+            i += 1
+        for opener, closer in (("<?", "?>"), ("<!--", "-->"), ("<!DOCTYPE", ">")):
+            if text.startswith(opener, i):
+                k = text.find(closer, i + len(opener))
+                if k < 0:
+                    return ""
+                i = k + len(closer)
+                break
+        else:
+            return text[i:]
+    return ""

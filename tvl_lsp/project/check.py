@@ -38,6 +38,7 @@ from typing import Callable, Iterable, Optional, Sequence
 
 from ..base.diagnostics import Diagnostic, Related, Severity
 from ..base.files import unreadable_reason
+from . import budget
 from .workspace import (Files, Pairing, Workspace, default_read_file, discover_files, find_workspace_root,
                         is_launch, is_model, is_xml_launch_candidate, is_yaml, launch_root_text, load_workspace,
                         norm)
@@ -278,6 +279,7 @@ class _Unit:
     timeout: Optional[float] = 10.0
     hints: tuple = ()               # ((launch path, ProjectHints, configuration names | None), ...)
     partial: frozenset = frozenset()  # ROS 2 launch files other launch files include
+    cpu_budget: Optional[float] = budget.CPU_SECONDS  # CPU seconds per file (see budget.py)
 
 
 def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnostic]:
@@ -286,18 +288,21 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
     models: dict = {}
     try:
         if unit.model is not None and unit.model_wanted:
-            info = _load_model(unit.model, read_file, None, True, unit.timeout)
-            models[unit.model] = info
-            if info is not None:
-                out += info.diagnostics
-            elif (d := _unreadable(unit.model)) is not None:
-                out.append(d)
+            def model_check() -> list[Diagnostic]:
+                info = _load_model(unit.model, read_file, None, True, unit.timeout)
+                models[unit.model] = info
+                if info is not None:
+                    return info.diagnostics
+                d = _unreadable(unit.model)
+                return [d] if d is not None else []
+            out += budget.limited(unit.model, model_check, unit.cpu_budget)
         hints = {lf: (h, c) for lf, h, c in unit.hints}
         for lf, pairings, root in unit.launches:
             h, c = hints.get(lf, (None, None))
             try:
-                out += check_launch(lf, None, pairings, root, read_file, models, unit.timeout, h, c,
-                                    partial=lf in unit.partial)
+                out += budget.limited(lf, lambda: check_launch(lf, None, pairings, root, read_file, models,
+                                                               unit.timeout, h, c, partial=lf in unit.partial),
+                                      unit.cpu_budget)
             except Exception as exc:
                 out.append(_internal(lf, f"check failed: {exc!r}"))
     except Exception as exc:
@@ -305,15 +310,36 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
     return out
 
 
+MAX_SAME_CODE = 50  # diagnostics of one code shown per file; the rest are summed up in one
+
+
 def _dedupe_sort(diags: Iterable[Diagnostic]) -> list[Diagnostic]:
+    """Sorted, without duplicates, and at most ``MAX_SAME_CODE`` diagnostics of one code per
+    file: a file of 30,000 malformed or repeated tags gets 50 of them and one more that says
+    how many were left out (on the first one left out), not 30,000 lines."""
     seen = set()
     out = []
+    per: dict[tuple, int] = {}
     for d in sorted(diags, key=lambda d: (d.sort_key(), d.severity)):
         key = (d.path, d.span, d.code, d.message)
         if key in seen:
             continue
         seen.add(key)
-        out.append(d)
+        k = (d.path, d.code)
+        n = per[k] = per.get(k, 0) + 1
+        if n <= MAX_SAME_CODE:
+            out.append(d)
+        elif n == MAX_SAME_CODE + 1:
+            out.append(d)  # becomes the summary below, once the total is known
+    shown: dict[tuple, int] = {}
+    for i, d in enumerate(out):
+        k = (d.path, d.code)
+        total = per[k]
+        shown[k] = shown.get(k, 0) + 1
+        if total > MAX_SAME_CODE and shown[k] == MAX_SAME_CODE + 1:
+            out[i] = Diagnostic(d.code, d.severity, d.path, d.span,
+                                f"... and {total - MAX_SAME_CODE:,} more [{d.code}] in this file, not listed "
+                                f"(the first {MAX_SAME_CODE} are)")
     return out
 
 
@@ -459,9 +485,18 @@ def pairing_of(path: str, workspace: Optional[Workspace] = None, text: Optional[
 
 def check_document(path: str, text: Optional[str] = None, read_file: Optional[ReadFile] = None,
                    roots: Optional[Sequence[str]] = None, timeout: Optional[float] = 10.0,
-                   workspace: Optional[Workspace] = None) -> list[Diagnostic]:
-    """Every diagnostic of the document at ``path`` (see the module docstring)."""
+                   workspace: Optional[Workspace] = None,
+                   cpu_budget: Optional[float] = budget.CPU_SECONDS) -> list[Diagnostic]:
+    """Every diagnostic of the document at ``path`` (see the module docstring), within the
+    per-file budget (:mod:`budget`: past it, one ``analysis-budget-exceeded`` error)."""
     path = norm(path)
+    return budget.limited(path, lambda: _check_document(path, text, read_file, roots, timeout, workspace),
+                          cpu_budget)
+
+
+def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile],
+                    roots: Optional[Sequence[str]], timeout: Optional[float],
+                    workspace: Optional[Workspace]) -> list[Diagnostic]:
     base_read = read_file or default_read_file
 
     def read(p: str) -> Optional[str]:
@@ -472,7 +507,8 @@ def check_document(path: str, text: Optional[str] = None, read_file: Optional[Re
     if text is None:
         text = read(path)
     if text is None:
-        return []
+        d = _unreadable(path)
+        return [d] if d else []
     if is_model(path):
         return _dedupe_sort(check_model(path, text, read, timeout))
     if is_launch(path) or (is_xml_launch_candidate(path) and launch_root_text(text)):

@@ -58,6 +58,7 @@ from ..base.files import read_bytes, read_head, read_text_or_none, unreadable_re
 from ..base.text import LineIndex, Pos, Span
 from ..graph.hints import ProjectHints, parse_hints
 from ..launch.dialects import LAUNCH_SUFFIXES as _LAUNCH_SUFFIXES
+from ..launch.xml import skip_prolog, strip_comments
 from ..launch.dialects import launch_stem as _launch_stem
 
 ReadFile = Callable[[str], Optional[str]]
@@ -143,7 +144,7 @@ def is_xml_launch_candidate(path: str) -> bool:
 def launch_root_text(text: str) -> bool:
     """Whether an XML text's root element is ``<launch>`` (the XML declaration, comments and a
     DOCTYPE before it skipped)."""
-    head = re.sub(r"<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>", "", text[:65536], flags=re.S).lstrip()
+    head = skip_prolog(text[:65536])
     return head.startswith("<launch") and (len(head) == 7 or not head[7].isalnum())
 
 
@@ -198,7 +199,7 @@ def explicit_skip_reason(path: str) -> Optional[str]:
     if base == "package.xml":
         return "taken to be a catkin package manifest: it is read for package names, not checked"
     if path.endswith((".xml", ".test")):
-        text = re.sub(r"<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>", "", head.decode("utf-8", "replace"), flags=re.S)
+        text = skip_prolog(head.decode("utf-8", "replace"))
         m = re.match(r"\s*<([\w:.-]+)", text)
         root = f"<{m.group(1)}>" if m else "no element"
         return f"taken to be XML other than a launch file: its root is {root}, not <launch>"
@@ -276,7 +277,7 @@ _COMMENT_RE = re.compile(r"<!--.*?-->", re.S)
 
 
 def package_name(manifest_text: str) -> Optional[str]:
-    m = _NAME_RE.search(_COMMENT_RE.sub("", manifest_text))
+    m = _NAME_RE.search(strip_comments(manifest_text))
     return m.group(1) if m else None
 
 

@@ -106,7 +106,9 @@ def main(argv: Optional[list[str]] = None) -> int:
               file=sys.stderr)
 
     try:
-        diags = check.check_paths(paths, jobs=ns.jobs)
+        from ...project.budget import cap_memory
+        with cap_memory():  # past it an allocation fails and that file gets analysis-budget-exceeded
+            diags = check.check_paths(paths, jobs=ns.jobs)
         if select:
             diags = [d for d in diags if d.code in select]
         if ignore:

@@ -79,6 +79,7 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
         self.units: dict[str, _Unit] = {}
         self.index: dict[str, LineIndex] = {}
         self.node_names: dict[str, list[NodeFact]] = {}
+        self.node_name_any: dict[str, Formula] = {}  # name -> some node of that name is loaded
         self.visits = 0
         self.budget_hit = False
         self.anon_counter = itertools.count(1)

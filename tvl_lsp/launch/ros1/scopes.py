@@ -49,7 +49,10 @@ class Scope:
         # includes with pass_all_args; never in the concrete loader, whose command line is known)
         self.cmdline: Formula = TRUE
 
-    def child(self, ns: Optional[str]) -> "Scope":
+    def child(self, ns: Optional[str], share_args: bool = False) -> "Scope":
+        """roslaunch's ``LoaderContext.child``.  ``share_args``: the child only reads args (a
+        ``<node>``'s scope: no ``<arg>`` may appear in it), so the dicts are shared, not
+        copied -- a copy per node would make a file with many nodes and args quadratic."""
         if ns:
             if ns[0] == "/":
                 cns = ns
@@ -62,8 +65,12 @@ class Scope:
         c = Scope.__new__(Scope)
         c.ns = make_global_ns(cns) if cns != "~" else "~"
         c.filename = self.filename
-        c.arg_names = dict(self.arg_names)
-        c.args = {k: list(v) for k, v in self.args.items()}
+        if share_args:
+            c.arg_names = self.arg_names
+            c.args = self.args
+        else:
+            c.arg_names = dict(self.arg_names)
+            c.args = {k: list(v) for k, v in self.args.items()}
         c.include_args = self.include_args
         c.include_names = None
         c.pass_all = False

@@ -10,6 +10,8 @@ from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
 from ...base.diagnostics import Diagnostic
 from ..model import Element, NodeFact, RemapCase
 from ..xml import XElement
+MAX_RELATED = 5  # related locations listed for a duplicate node
+
 from .rules import (Cases, DUPLICATE_NODE, EMPTY_NS, ENV_INVALID, ILLEGAL_NAME, INVALID_VALUE,
                     LAUNCH_CHILD_TAGS, LAUNCH_IF_UNLESS, MACHINE_INVALID, MISSING_ATTRIBUTE, NODE_NAME_NS,
                     REMAP_INVALID, RESPAWN_REQUIRED, TAG_ATTRS, TEST_INVALID, UNKNOWN_ATTRIBUTE, UNKNOWN_TAG,
@@ -114,7 +116,7 @@ class TagRules:
                           el, self.aspan(el, "clear_params"),
                           conj([when(cp, lambda v: _attr_bool(v) is True), when(node_name, lambda v: not v)]))
         for c, v in nsc_:
-            child = sc.child(v)
+            child = sc.child(v, share_args=tag == "node")
             if include_file is not None:
                 child.arg_names = {}
                 child.filename = include_file
@@ -268,15 +270,22 @@ class TagRules:
                 if is_test:
                     self.nodes.append(nf)
                     continue
-                for other in self.node_names.get(full, []):
-                    both = conj([other.condition, c])
+                others = self.node_names.get(full, [])
+                if others:
+                    # one fact per node (not one per pair: linear in the number of nodes), the
+                    # first few others as related locations
+                    any_other = self.node_name_any.get(full)
+                    if any_other is None:
+                        any_other = disj([o.condition for o in others])
+                    both = conj([any_other, c])
                     self.fact(DUPLICATE_NODE, f"roslaunch file contains multiple nodes named [{shown(full)}]. Please "
                               "check all <node> 'name' attributes to make sure they are unique.", el,
                               self.aspan(el, "name"), both,
                               related=[(other.path, other.element.attrs["name"].value_span
                                         if "name" in other.element.attrs else other.element.span,
-                                        "the other node with this name")])
+                                        "the other node with this name") for other in others[:MAX_RELATED]])
                 self.node_names.setdefault(full, []).append(nf)
+                self.node_name_any[full] = disj([self.node_name_any.get(full, FALSE), c])
                 self.nodes.append(nf)
 
     # ---------------------------------------------------------------- <remap>, <env>, <machine>

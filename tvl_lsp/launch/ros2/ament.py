@@ -17,6 +17,9 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Mapping, Optional
 
+from ...base.files import read_head_text
+from ..xml import strip_comments
+
 SKIP = {".git", "build", "install", "log", "devel", "node_modules", ".venv", "__pycache__", ".hg"}
 IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")
 MAX_DIRS = 20000
@@ -47,7 +50,7 @@ class Package:
 
 
 def read_manifest(text: str, folder: str) -> Package:
-    text = _COMMENT.sub("", text)
+    text = strip_comments(text)
     m = _NAME.search(text)
     name = m.group(1) if m else os.path.basename(folder)
     bt = _BUILD_TYPE.search(text)
@@ -75,11 +78,10 @@ def _scan(root: str) -> dict[str, Package]:
             continue
         if "package.xml" in filenames:
             dirnames[:] = []
-            try:
-                with open(os.path.join(dirpath, "package.xml"), encoding="utf-8", errors="replace") as f:
-                    pkg = read_manifest(f.read(200_000), dirpath)
-            except OSError:
+            head = read_head_text(os.path.join(dirpath, "package.xml"), 200_000)
+            if head is None:
                 continue
+            pkg = read_manifest(head, dirpath)
             out.setdefault(pkg.name, pkg)
     return out
 
@@ -127,11 +129,8 @@ def package_of(path: str) -> Optional[Package]:
     for _ in range(40):
         m = os.path.join(d, "package.xml")
         if os.path.isfile(m):
-            try:
-                with open(m, encoding="utf-8", errors="replace") as f:
-                    return read_manifest(f.read(200_000), d)
-            except OSError:
-                return None
+            head = read_head_text(m, 200_000)
+            return read_manifest(head, d) if head is not None else None
         nd = os.path.dirname(d)
         if nd == d:
             return None
@@ -184,10 +183,8 @@ def _exposed(folder: str) -> dict[str, str]:
             seen += 1
             if seen > MAX_EXTENSION_FILES:
                 return out
-            try:
-                with open(os.path.join(dirpath, f), encoding="utf-8", errors="replace") as fh:
-                    text = fh.read(1_000_000)
-            except OSError:
+            text = read_head_text(os.path.join(dirpath, f), 1_000_000)
+            if text is None:
                 continue
             if "expose_" in text:
                 for kind, name in _EXPOSE.findall(text):
@@ -210,12 +207,9 @@ def _entry_modules(text: str) -> list[str]:
 @lru_cache(maxsize=64)
 def _workspace_extension(folder: str, stamp: float) -> dict[str, str]:
     for name in ("setup.py", "setup.cfg", "pyproject.toml"):
-        try:
-            with open(os.path.join(folder, name), encoding="utf-8", errors="replace") as f:
-                if EXTENSION_GROUP in f.read(200_000):
-                    return _exposed(folder)
-        except OSError:
-            continue
+        head = read_head_text(os.path.join(folder, name), 200_000)
+        if head is not None and EXTENSION_GROUP in head:
+            return _exposed(folder)
     return {}
 
 

@@ -22,25 +22,27 @@ import re
 from dataclasses import dataclass
 from typing import Optional
 
+from ...base.files import read_head_text
+from ..xml import strip_comments
 from .ament import package_of
 
 MARKER = re.compile(r"(?:<!--|#)\s*tvl-lsp\s*:[^\n>]*?\bdialect\s*=\s*(ros1|ros2)\b", re.I)
 
 _ROS2 = [(re.compile(p), w) for p, w in (
-    (r"\$\(var\s", 3), (r"<node\b[^>]*\sexec\s*=", 3), (r"<let\b", 3), (r"\$\(find-pkg-(share|prefix)\s", 3),
+    (r"\$\(var\s", 3), (r"<node\b[^>]{0,4000}\sexec\s*=", 3), (r"<let\b", 3), (r"\$\(find-pkg-(share|prefix)\s", 3),
     (r"<push[_-]ros[_-]namespace\b", 3), (r"<set_remap\b", 3), (r"<set_parameter\b", 3),
-    (r"<executable\b", 2), (r"<node\b[^>]*\snamespace\s*=", 2), (r"<arg\b[^>]*\sdescription\s*=", 1),
+    (r"<executable\b", 2), (r"<node\b[^>]{0,4000}\snamespace\s*=", 2), (r"<arg\b[^>]{0,4000}\sdescription\s*=", 1),
     (r"<choice\b", 2), (r"\$\((not|and|or|equals|not-equals|filename)[\s)]", 2),
-    (r"<include\b[^>]*\sfile\s*=\s*[\"'][^\"']*\.launch\.(py|yaml|yml)[\"']", 2),
+    (r"<include\b[^>]{0,4000}\sfile\s*=\s*[\"'][^\"']{0,4000}\.launch\.(py|yaml|yml)[\"']", 2),
     (r"<node_container\b", 3), (r"<composable_node\b", 3), (r"<set_env\b", 2), (r"<unset_env\b", 2),
-    (r"<group\b[^>]*\s(scoped|forwarding)\s*=", 3), (r"<keep\b", 3), (r"\$\(exec-in-pkg\s", 3),
-    (r"<param\b[^>]*\sfrom\s*=", 2))]
+    (r"<group\b[^>]{0,4000}\s(scoped|forwarding)\s*=", 3), (r"<keep\b", 3), (r"\$\(exec-in-pkg\s", 3),
+    (r"<param\b[^>]{0,4000}\sfrom\s*=", 2))]
 _ROS1 = [(re.compile(p), w) for p, w in (
-    (r"\$\(arg\s", 3), (r"<node\b[^>]*\stype\s*=", 3), (r"\$\(find\s", 3), (r"<rosparam\b", 3),
-    (r"<(node|group|include)\b[^>]*\sns\s*=", 2), (r"<arg\b[^>]*\sdoc\s*=", 1), (r"<machine\b", 3),
-    (r"<test\b", 2), (r"pass_all_args\s*=", 3), (r"\$\(optenv\s", 3), (r"<param\b[^>]*\s(textfile|binfile|command)\s*=", 2),
+    (r"\$\(arg\s", 3), (r"<node\b[^>]{0,4000}\stype\s*=", 3), (r"\$\(find\s", 3), (r"<rosparam\b", 3),
+    (r"<(node|group|include)\b[^>]{0,4000}\sns\s*=", 2), (r"<arg\b[^>]{0,4000}\sdoc\s*=", 1), (r"<machine\b", 3),
+    (r"<test\b", 2), (r"pass_all_args\s*=", 3), (r"\$\(optenv\s", 3), (r"<param\b[^>]{0,4000}\s(textfile|binfile|command)\s*=", 2),
     (r"clear_params\s*=", 2), (r"<master\b", 3),
-    (r"<include\b[^>]*\sfile\s*=\s*[\"'][^\"']*\.launch[\"']", 1))]
+    (r"<include\b[^>]{0,4000}\sfile\s*=\s*[\"'][^\"']{0,4000}\.launch[\"']", 1))]
 
 
 @dataclass(frozen=True)
@@ -60,12 +62,15 @@ def is_ros2_path(path: str) -> bool:
     return path.endswith((".launch.yaml", ".launch.yml", ".launch.py"))
 
 
+MAX_SCORED = 200_000  # the content signals are read in the first 200 kB (a dialect shows early)
+
+
 def _strip_comments(text: str) -> str:
-    return re.sub(r"<!--.*?-->", "", text, flags=re.S)
+    return strip_comments(text)
 
 
 def content_scores(text: str) -> tuple[int, int]:
-    body = _strip_comments(text)
+    body = _strip_comments(text[:MAX_SCORED])
     r2 = sum(w for rx, w in _ROS2 if rx.search(body))
     r1 = sum(w for rx, w in _ROS1 if rx.search(body))
     return r2, r1
@@ -80,11 +85,7 @@ def detect_dialect(path: str, text: Optional[str] = None, package_dialect: Optio
     if path.endswith(".py"):
         return Dialect("ros2", "a Python launch file")
     if text is None:
-        try:
-            with open(path, encoding="utf-8", errors="replace") as f:
-                text = f.read(2_000_000)
-        except OSError:
-            text = ""
+        text = read_head_text(path, 2_000_000) or ""
     m = MARKER.search(text[:200_000])
     if m:
         d = m.group(1).lower()
