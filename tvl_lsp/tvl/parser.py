@@ -30,7 +30,8 @@ from . import model as m
 from .lexer import Tok
 from .raw import (RawAttr, RawBody, RawChild, RawConst, RawConstraint, RawData, RawFeatureDecl, RawGroup, RawType,
                   SyntaxIssue)
-from .recovery import _block_range, _find, _item_range, _missing_braces, _prev_alive, _separator, _statement_range
+from .recovery import (_DECL_START, _block_range, _declaration_head, _find, _item_range, _missing_braces,
+                       _prev_alive, _separator, _statement_range)
 
 MAX_CHAIN = 5000  # terms of a flat `a && b && ...` / `a || b || ...` chain
 MAX_DEPTH = 200  # expression / feature nesting handled (deeper input is reported, not crashed on)
@@ -763,8 +764,6 @@ def _run_lalr(tokens: list[Tok], end_pos: int, panic: bool = False):
 
 
 _CLOSERS = frozenset({"RBRACE", "RPAR", "RBRACK", "SEMI"})
-
-
 def _in_set(toks, depth, k) -> bool:
     """Token ``k`` is inside the braces of a set (`in {1, 2}`)."""
     j = k - 1
@@ -855,6 +854,14 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                       and sorted(toks[k - 1].value.lower()) == sorted("group")):
                     msg = f"'{toks[k - 1].value}' is not a keyword: is it a misspelt 'group'?"
                     at = (toks[k - 1].start, toks[k - 1].end)
+                    if (k - 1) not in patched and alive[k - 1]:
+                        # read it as the 'group' it means: dropping the group would leave its
+                        # children undeclared, and every reopening of them an error
+                        patched.add(k - 1)
+                        issues.append(SyntaxIssue("syntax-error", at[0], at[1], msg))
+                        toks[k - 1] = Tok("GROUP", toks[k - 1].value, toks[k - 1].start, toks[k - 1].end)
+                        last_err = None
+                        continue
                 elif tok.type in ("INT", "REAL") and tok.value.startswith("-"):
                     msg = (f"unexpected number '{tok.value}': TVL reads '-' glued to a number as its sign; "
                            f"put a space after '-' to subtract")
@@ -862,6 +869,30 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                     what = (f"'{tok.value}'" if tok.type not in ("ID", "INT", "REAL", "STRING")
                             else f"{_disp(tok.type).split(' ', 1)[-1]} '{tok.value}'")
                     msg = f"unexpected {what}; expected {_expected(e.expected)}"
+                jc = _prev_alive(alive, k)
+                if (tok.type in ("RBRACE", "RPAR", "RBRACK") and tok.value and jc is not None
+                        and toks[jc].type == "COMMA" and toks[jc].value and jc not in patched):
+                    # '{ A, B, }': a ',' with nothing after it; the list before it is fine
+                    patched.add(jc)
+                    issues.append(SyntaxIssue("syntax-error", tok.start, tok.end,
+                                              f"unexpected '{tok.value}' after ',': remove the ',' at the end of "
+                                              f"the list"))
+                    alive[jc] = False
+                    last_err = None
+                    continue
+                if (tok.type in _DECL_START and jc is not None and k not in patched
+                        and toks[jc].type in ("RBRACK", "INT", "REAL", "ID", "TRUE", "FALSE", "RPAR")
+                        and "SEMI" in e.expected):
+                    # 'int w in [1..3] int h ...': the ';' ending the declaration before is missing
+                    patched.add(k)
+                    issues.append(SyntaxIssue("syntax-error", toks[jc].start, toks[jc].end,
+                                              f"missing ';' after '{toks[jc].value}'"))
+                    toks.insert(k, Tok("SEMI", "", toks[jc].end, toks[jc].end))
+                    depth.insert(k, depth[k])
+                    alive.insert(k, True)
+                    patched = {i + 1 if i >= k else i for i in patched}
+                    last_err = None
+                    continue
                 if tok.type == "RBRACE" and k > 0 and toks[k - 1].type == "SEMI" and "STRING" in e.expected \
                         and (k - 1) not in patched and toks[k - 1].value:
                     # data { "k" "v"; }: the reference takes no ';' after the last entry
@@ -949,6 +980,15 @@ def parse_tokens(toks: list[Tok], smap: "SourceMap") -> tuple[list, list[SyntaxI
                     a, b = _statement_range(toks, depth, alive, k)
                 if last_err == k or not any(alive[a:b + 1]):
                     a, b = _item_range(toks, depth, alive, k)
+                elif tok.type != "RBRACE":
+                    keep = _declaration_head(toks, depth, alive, a, b, k)
+                    if keep:  # keep 'TYPE NAME ;': its uses further down are not unknown names
+                        last_err = k
+                        last_drop = b
+                        for i in range(a, b + 1):
+                            if i not in keep:
+                                alive[i] = False
+                        continue
                 last_err = k
                 last_drop = b
                 for i in range(a, b + 1):

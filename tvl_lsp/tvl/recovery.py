@@ -10,6 +10,23 @@ from .lexer import Tok
 from .raw import SyntaxIssue
 
 
+_TOP_START = frozenset({"ROOT", "ID", "CONST", "STRUCT", "INTK", "REALK", "BOOL", "ENUM"})
+
+
+def _opens_item(toks: list, i: int) -> bool:
+    """The token at ``i`` begins what can only be a top-level item: 'root X {', 'X {' / 'X.Y {',
+    'struct x {', 'const ...'."""
+    t = toks[i].type
+    if t in ("ROOT", "STRUCT", "CONST"):
+        return True
+    if t == "ID":
+        j = i + 1
+        while j + 1 < len(toks) and toks[j].type == "DOT" and toks[j + 1].type == "ID":
+            j += 2
+        return j < len(toks) and toks[j].type == "LBRACE"
+    return False
+
+
 def _missing_braces(toks: list, smap, issues: list) -> list:
     """A '}' forgotten inside a block, told by the indentation: a '}' that begins its line at a
     column left of the line that opened the innermost '{', where the '{' below that one opened at
@@ -27,6 +44,13 @@ def _missing_braces(toks: list, smap, issues: list) -> list:
     stack: list = []  # indexes of open '{'
     inserts: list = []  # (index to insert before, the '{' left open)
     for i, t in enumerate(toks):
+        line, col = line_col[i]
+        if (stack and col == 0 and first_col.get(line) == 0 and (i == 0 or line_col[i - 1][0] != line)
+                and t.type in _TOP_START and first_col[line_col[stack[-1]][0]] == 0
+                and line_col[stack[-1]][0] != line and _opens_item(toks, i)):
+            # a top-level item (a feature's body, 'root X {', a declaration) begins at the left
+            # margin while a '{' opened at the left margin is still open: its '}' is missing
+            inserts.append((i, stack.pop()))
         if t.type == "LBRACE":
             stack.append(i)
         elif t.type == "RBRACE" and stack:
@@ -46,12 +70,14 @@ def _missing_braces(toks: list, smap, issues: list) -> list:
         return toks
     out = list(toks)
     for i, top in reversed(inserts):
+        if top > 0 and toks[top - 1].type == "IN" and toks[i - 1].type == "SEMI":
+            i -= 1  # 'in {a, b;': the set lacks its '}', the declaration has its ';'
         prev = toks[i - 1]
         out.insert(i, Tok("RBRACE", "", prev.end, prev.end))
         o = toks[top]
         issues.append(SyntaxIssue("syntax-error", o.start, o.end,
                                   f"this '{{' (line {line_col[top][0] + 1}) is never closed: a '}}' is missing "
-                                  f"before line {line_col[i][0] + 1}"))
+                                  f"before line {line_col[i][0] + 1 if toks[i].type != 'SEMI' else line_col[i + 1][0] + 1}"))
     return out
 
 
@@ -154,3 +180,26 @@ def _item_range(toks, depth, alive, k) -> tuple[int, int]:
     while b < n - 1 and not (depth[b] == 0 and toks[b].type in ("SEMI", "RBRACE") and b >= k):
         b += 1
     return a, b
+
+
+_DECL_START = frozenset({"INTK", "REALK", "BOOL", "ENUM", "CONST"})
+_TYPE_KW = frozenset({"INTK", "REALK", "BOOL", "ENUM"})
+_LITERALS = frozenset({"INT", "REAL", "TRUE", "FALSE"})
+
+
+def _declaration_head(toks, depth, alive, a, b, k) -> Optional[set]:
+    """When the statement ``a..b`` (ending with its ';') that has a syntax error at ``k`` is an
+    attribute or constant declaration whose type and name come before ``k``: the indexes of the
+    tokens that still make a valid declaration ('int speed;', 'const int most 2;'), else None."""
+    idx = [i for i in range(a, b + 1) if alive[i]]
+    if len(idx) < 3 or toks[idx[-1]].type != "SEMI" or depth[idx[-1]] != depth[idx[0]]:
+        return None
+    t = [toks[i].type for i in idx]
+    if t[0] == "CONST":
+        if (len(idx) >= 5 and t[1] in _TYPE_KW and t[2] == "ID" and idx[2] < k
+                and t[-2] in _LITERALS and idx[-2] > k):
+            return {idx[0], idx[1], idx[2], idx[-2], idx[-1]}
+        return None
+    if t[0] in _TYPE_KW and t[1] == "ID" and idx[1] < k:
+        return {idx[0], idx[1], idx[-1]}
+    return None
