@@ -188,3 +188,24 @@ def test_garbage_is_skipped_and_a_body_that_is_not_json_gets_a_parse_error(serve
     errors = [m["error"]["code"] for m in server.messages if m.get("id") is None and "error" in m]
     assert errors == [-32700, -32700, -32700, -32600], errors
     assert server.proc.poll() is None
+
+
+# ------------------------------------------------------------------ long analysis
+
+def test_hover_and_definition_answer_within_2_s_during_a_long_analysis(server, tmp_path):
+    """A 10,000-node launch file takes many seconds to analyse: requests answer from the last
+    result (or empty) instead of waiting for it."""
+    server.initialize(tmp_path)
+    text = ('<launch>\n  <arg name="use_b" default="true"/>\n' + "".join(
+        f'  <node pkg="a" type="b" name="n{i}" if="$(arg use_b)"><param name="p" value="{i}"/></node>\n'
+        for i in range(10000)) + "</launch>\n")
+    uri = (tmp_path / "big.launch").as_uri()
+    _open(server, uri, text)
+    for version, method in enumerate(["textDocument/hover", "textDocument/definition", "textDocument/hover"], 2):
+        t = time.monotonic()
+        rid = server.request(method, _hover(uri, 2, 60))
+        rep = server.response(rid, 30)
+        assert rep is not None and "error" not in rep, rep
+        assert time.monotonic() - t < 2.0, (method, time.monotonic() - t)
+        server.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": version}, "contentChanges": [
+            {"range": {"start": {"line": 3, "character": 0}, "end": {"line": 3, "character": 0}}, "text": " "}]})

@@ -8,6 +8,7 @@ state is set up by :meth:`DocumentStore._init_documents`.
 
 from __future__ import annotations
 
+import asyncio
 import hashlib
 import logging
 import os
@@ -20,6 +21,8 @@ from .checks import file_kind
 from .convert import path_to_uri, uri_to_path
 
 log = logging.getLogger("tvl_lsp.server")
+
+PARSE_WAIT = 0.7  # seconds a request waits for the parse of the current text (then: the last parse)
 
 
 class Document:
@@ -60,6 +63,7 @@ class DocumentStore:
         self.roots: list[str] = []
         self.disk_cache: dict[str, tuple[float, str]] = {}
         self.parsed_cache: dict[str, tuple] = {}
+        self._parsing: dict[str, tuple] = {}  # path -> (parse key, task): parses under way
         # caches keyed by content
         self.cache: dict[tuple, Any] = {}
         self._cache_order: list[tuple] = []
@@ -147,10 +151,32 @@ class DocumentStore:
         hit = self.parsed_now(path)
         if hit is not None:
             return hit
-        parsed = await self.run_in_thread(checks.parse_document, kind, path, text,
-                                          self.snapshot_reader(), self.roots)
-        self._store_parsed(path, text, parsed)
-        return parsed
+        # one parse per text, shared by every request that needs it; a request waits for it at
+        # most PARSE_WAIT seconds, then answers from the last parse of the file (ranges are
+        # clamped to the current text by convert.py): a long parse never stalls a request
+        key = self._parse_key(path, text)
+        running = self._parsing.get(path)
+        if running is None or running[0] != key:
+            task = asyncio.ensure_future(self._parse_now(path, kind, text))
+            task.add_done_callback(lambda t: t.cancelled() or t.exception())
+            self._parsing[path] = running = (key, task)
+        try:
+            return await asyncio.wait_for(asyncio.shield(running[1]), PARSE_WAIT)
+        except asyncio.TimeoutError:
+            log.info("parse of %s still running: answering from the last parse", path)
+            last = self.parsed_cache.get(path)
+            return last[1] if last is not None else None
+
+    async def _parse_now(self, path: str, kind: str, text: str):
+        try:
+            parsed = await self.run_in_thread(checks.parse_document, kind, path, text,
+                                              self.snapshot_reader(), self.roots)
+            self._store_parsed(path, text, parsed)
+            return parsed
+        finally:
+            cur = self._parsing.get(path)
+            if cur is not None and cur[0] == self._parse_key(path, text):
+                self._parsing.pop(path, None)
 
     def roots_for(self, path: str) -> list[str]:
         root = self.workspace_root_for(path)
