@@ -142,8 +142,9 @@ class DocumentStore:
             return hit[1]
         return None
 
-    async def parsed(self, path: str):
-        """The parsed document (TvlResult / LaunchAnalysis) for the current text of ``path``."""
+    async def parsed(self, path: str, wait: Optional[float] = PARSE_WAIT):
+        """The parsed document (TvlResult / LaunchAnalysis) for the current text of ``path``
+        (``wait``: see below; None: the current text's, however long it takes)."""
         text = self.read_file(path)
         kind = file_kind(path)
         if text is None or kind is None:
@@ -161,7 +162,7 @@ class DocumentStore:
             task.add_done_callback(lambda t: t.cancelled() or t.exception())
             self._parsing[path] = running = (key, task)
         try:
-            return await asyncio.wait_for(asyncio.shield(running[1]), PARSE_WAIT)
+            return await asyncio.wait_for(asyncio.shield(running[1]), wait)
         except asyncio.TimeoutError:
             log.info("parse of %s still running: answering from the last parse", path)
             last = self.parsed_cache.get(path)
@@ -213,7 +214,7 @@ class DocumentStore:
             return []
 
     async def model_sources(self, model_path: str) -> Optional[dict[str, str]]:
-        res = await self.parsed(model_path)
+        res = await self.parsed(model_path, wait=None)
         model = getattr(res, "model", None)
         if model is None:
             return None

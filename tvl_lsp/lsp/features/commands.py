@@ -199,8 +199,8 @@ async def plan(ls, opts: dict):
             launch = launches[0]
     else:
         launch, model = path, model_of(ls, path)
-    analysis = await ls.parsed(launch)
-    res = await ls.parsed(model)
+    analysis = await ls.parsed(launch, wait=None)
+    res = await ls.parsed(model, wait=None)
     m = getattr(res, "model", None)
     if analysis is None or m is None:
         raise JsonRpcInvalidParams("cannot analyse the launch file or its model")
