@@ -22,6 +22,7 @@ from .convert import path_to_uri, uri_to_path
 
 log = logging.getLogger("tvl_lsp.server")
 
+FIRST_PARSE_WAIT = 1.2  # the same when the file was never parsed
 PARSE_WAIT = 0.7  # seconds a request waits for the parse of the current text (then: the last parse)
 
 
@@ -161,6 +162,8 @@ class DocumentStore:
             task = asyncio.ensure_future(self._parse_now(path, kind, text))
             task.add_done_callback(lambda t: t.cancelled() or t.exception())
             self._parsing[path] = running = (key, task)
+        if wait is not None and path not in self.parsed_cache:
+            wait = FIRST_PARSE_WAIT  # nothing to answer from yet: wait a little longer
         try:
             return await asyncio.wait_for(asyncio.shield(running[1]), wait)
         except asyncio.TimeoutError:
