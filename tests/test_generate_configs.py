@@ -115,3 +115,17 @@ def test_cli_generates_the_four_turtlerand_configurations(ws, capsys):
     assert cli_main(["generate", str(generic), "--mode", "one", "-x", "Random", "--out", "gen3"]) == 0
     assert [f.name for f in (ws / "src/turtlerand/gen3").glob("*.launch")] == ["generic_turtlesim.launch"]
     assert cli_main(["generate", str(generic), "--out", "/tmp"]) == 2
+
+
+def test_feature_names_differing_only_in_case_are_refused_not_overwritten(tmp_path, capsys):
+    """Issue 12: `Ab` and `AB` gave one file name (3 products, 2 files, exit 0)."""
+    import shutil
+    ws = tmp_path / "cc"
+    shutil.copytree(Path(__file__).parent / "data/robustness/case_collision", ws)
+    generic = ws / "src/cc/launch/cc.launch"
+    assert cli_main(["generate", str(generic), "--mode", "all", "--workspace", str(ws)]) == 2
+    err = capsys.readouterr().err
+    assert "`Ab` and `AB`" in err and "nothing was written" in err
+    assert not (ws / "src/cc/configs").exists()
+    with pytest.raises(GenerateError, match="differ only in case"):
+        plan_configurations([{"Ab": True}, {"AB": True}], ["Ab", "AB"], str(generic), str(ws / "out"), [str(ws)])

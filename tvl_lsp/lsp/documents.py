@@ -8,6 +8,7 @@ state is set up by :meth:`DocumentStore._init_documents`.
 
 from __future__ import annotations
 
+import asyncio
 import hashlib
 import logging
 import os
@@ -20,6 +21,9 @@ from .checks import file_kind
 from .convert import path_to_uri, uri_to_path
 
 log = logging.getLogger("tvl_lsp.server")
+
+FIRST_PARSE_WAIT = 1.2  # the same when the file was never parsed
+PARSE_WAIT = 0.7  # seconds a request waits for the parse of the current text (then: the last parse)
 
 
 class Document:
@@ -60,6 +64,7 @@ class DocumentStore:
         self.roots: list[str] = []
         self.disk_cache: dict[str, tuple[float, str]] = {}
         self.parsed_cache: dict[str, tuple] = {}
+        self._parsing: dict[str, tuple] = {}  # path -> (parse key, task): parses under way
         # caches keyed by content
         self.cache: dict[tuple, Any] = {}
         self._cache_order: list[tuple] = []
@@ -138,8 +143,9 @@ class DocumentStore:
             return hit[1]
         return None
 
-    async def parsed(self, path: str):
-        """The parsed document (TvlResult / LaunchAnalysis) for the current text of ``path``."""
+    async def parsed(self, path: str, wait: Optional[float] = PARSE_WAIT):
+        """The parsed document (TvlResult / LaunchAnalysis) for the current text of ``path``
+        (``wait``: see below; None: the current text's, however long it takes)."""
         text = self.read_file(path)
         kind = file_kind(path)
         if text is None or kind is None:
@@ -147,10 +153,34 @@ class DocumentStore:
         hit = self.parsed_now(path)
         if hit is not None:
             return hit
-        parsed = await self.run_in_thread(checks.parse_document, kind, path, text,
-                                          self.snapshot_reader(), self.roots)
-        self._store_parsed(path, text, parsed)
-        return parsed
+        # one parse per text, shared by every request that needs it; a request waits for it at
+        # most PARSE_WAIT seconds, then answers from the last parse of the file (ranges are
+        # clamped to the current text by convert.py): a long parse never stalls a request
+        key = self._parse_key(path, text)
+        running = self._parsing.get(path)
+        if running is None or running[0] != key:
+            task = asyncio.ensure_future(self._parse_now(path, kind, text))
+            task.add_done_callback(lambda t: t.cancelled() or t.exception())
+            self._parsing[path] = running = (key, task)
+        if wait is not None and path not in self.parsed_cache:
+            wait = FIRST_PARSE_WAIT  # nothing to answer from yet: wait a little longer
+        try:
+            return await asyncio.wait_for(asyncio.shield(running[1]), wait)
+        except asyncio.TimeoutError:
+            log.info("parse of %s still running: answering from the last parse", path)
+            last = self.parsed_cache.get(path)
+            return last[1] if last is not None else None
+
+    async def _parse_now(self, path: str, kind: str, text: str):
+        try:
+            parsed = await self.run_in_thread(checks.parse_document, kind, path, text,
+                                              self.snapshot_reader(), self.roots)
+            self._store_parsed(path, text, parsed)
+            return parsed
+        finally:
+            cur = self._parsing.get(path)
+            if cur is not None and cur[0] == self._parse_key(path, text):
+                self._parsing.pop(path, None)
 
     def roots_for(self, path: str) -> list[str]:
         root = self.workspace_root_for(path)
@@ -187,7 +217,7 @@ class DocumentStore:
             return []
 
     async def model_sources(self, model_path: str) -> Optional[dict[str, str]]:
-        res = await self.parsed(model_path)
+        res = await self.parsed(model_path, wait=None)
         model = getattr(res, "model", None)
         if model is None:
             return None

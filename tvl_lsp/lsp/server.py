@@ -38,13 +38,12 @@ from typing import Any, Optional
 
 from lsprotocol import types
 from pygls.lsp.server import LanguageServer
-from pygls.protocol import LanguageServerProtocol
-from pygls.protocol.language_server import lsp_method
 
 from .. import __version__
 from ..base.text import LineIndex
 from .convert import encoding_name, to_lsp_diagnostic
 from .documents import DocumentStore
+from .protocol import TvlProtocol
 from .scheduler import Scheduler
 from .settings import Settings
 from .workers import Workers, start_watchdog
@@ -52,26 +51,6 @@ from .workers import Workers, start_watchdog
 log = logging.getLogger("tvl_lsp.server")
 
 MAX_DIAGNOSTICS = 1000  # per document: beyond this an editor is no help anyway
-
-
-class TvlProtocol(LanguageServerProtocol):
-    """The server keeps its own documents (LSP line rules, robust to bad positions), so
-    pygls's own workspace copy is not updated on every keystroke."""
-
-    @lsp_method(types.TEXT_DOCUMENT_DID_CHANGE)
-    def lsp_text_document__did_change(self, params: types.DidChangeTextDocumentParams):
-        if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_CHANGE)) is not None:
-            yield handler, (params,), None
-
-    @lsp_method(types.TEXT_DOCUMENT_DID_OPEN)
-    def lsp_text_document__did_open(self, params: types.DidOpenTextDocumentParams):
-        if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_OPEN)) is not None:
-            yield handler, (params,), None
-
-    @lsp_method(types.TEXT_DOCUMENT_DID_CLOSE)
-    def lsp_text_document__did_close(self, params: types.DidCloseTextDocumentParams):
-        if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_CLOSE)) is not None:
-            yield handler, (params,), None
 
 
 class TvlLanguageServer(DocumentStore, Scheduler, Workers, LanguageServer):
@@ -212,18 +191,21 @@ def main(argv: list[str] | None = None) -> int:
         except ValueError:
             print(f"tvl-lsp: bad port {port!r} (use --tcp [HOST:]PORT)", file=sys.stderr)
             return 2
-        server.start_tcp(host or "127.0.0.1", port_n)
-        return 0
+        from .transport import serve_tcp
+        serve_tcp(server, host or "127.0.0.1", port_n)
+        return server.protocol.exit_code or 0
     if argv:
         print(f"tvl-lsp: unknown arguments {' '.join(argv)} (see tvl-lsp --help)", file=sys.stderr)
         return 2
+    from .transport import serve_stdio
     try:
-        server.start_io()
+        serve_stdio(server)
     finally:
         # the client went away (end of input, or exit): stop the workers now
         server.restart_proc_pool()
         server.restart_check_pool()
-    return 0
+    # ``exit`` after ``shutdown``: 0, without: 1 (LSP); the end of the input: 0
+    return server.protocol.exit_code or 0
 
 
 if __name__ == "__main__":

@@ -225,6 +225,7 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
         features = [f for f in features if f not in (choices or {}) and f not in covered]
     prefix = prefix or Path(generic_path).name.split(".")[0]
     files: dict[str, GeneratedFile] = {}
+    seen: dict[str, GeneratedFile] = {}
     for i, prod in enumerate(products):
         if limit is not None and i >= limit:
             break
@@ -241,5 +242,27 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
             text = render_configuration(p, features, target, indent)
         if roots and not inside(path, roots):
             raise GenerateError(f"{path} would be outside the workspace")
-        files[path] = GeneratedFile(path, text, p)
+        # one file per product: two products with one name would overwrite each other (names
+        # are lower case: on a case-insensitive file system so would names differing in case)
+        key = os.path.normcase(path).casefold()
+        other = seen.get(key)
+        if other is not None and other.product != p:
+            raise GenerateError(_collision_message(path, other.product, p, features))
+        seen[key] = files[path] = GeneratedFile(path, text, p)
     return [files[k] for k in sorted(files)]
+
+
+def _collision_message(path: str, a: Mapping[str, bool], b: Mapping[str, bool], features: Sequence[str]) -> str:
+    """Why two products get the same file name: the feature names that differ only in case
+    or punctuation, when that is the reason."""
+    by_token: dict[str, list[str]] = {}
+    for f in features:
+        by_token.setdefault(re.sub(r"[^A-Za-z0-9_]+", "_", f).casefold(), []).append(f)
+    clashes = [names for names in by_token.values() if len(names) > 1]
+    name = Path(path).name
+    if clashes:
+        which = "; ".join(" and ".join(f"`{n}`" for n in names) for names in clashes)
+        return (f"feature names {which} differ only in case or punctuation, so two configurations "
+                f"would both be written to {name}: rename one of them (nothing was written)")
+    return (f"two configurations would both be written to {name} (a name shortened by its digest): "
+            "nothing was written")

@@ -168,6 +168,19 @@ def can_create(ls) -> bool:
     return any(getattr(o, "value", o) == "create" for o in ops)
 
 
+def write_roots(ls, path: str) -> list[str]:
+    """Where generated files may be written for ``path``: inside the client's workspace
+    folders (the one that holds ``path``; a file outside every folder gets nothing written);
+    without workspace folders (a single file), its workspace as found from the file."""
+    if not ls.roots:
+        return ls.roots_for(path)
+    from ...project.generate import inside
+    if not inside(path, ls.roots):
+        raise JsonRpcInvalidParams(f"{Path(path).name} is outside the workspace folders: "
+                                   "configurations are only written inside them")
+    return [r for r in ls.roots if inside(path, [r])]
+
+
 async def plan(ls, opts: dict):
     """(files, out_dir, truncated) for a generation request (nothing written)."""
     path = _path(opts)
@@ -186,15 +199,15 @@ async def plan(ls, opts: dict):
             launch = launches[0]
     else:
         launch, model = path, model_of(ls, path)
-    analysis = await ls.parsed(launch)
-    res = await ls.parsed(model)
+    analysis = await ls.parsed(launch, wait=None)
+    res = await ls.parsed(model, wait=None)
     m = getattr(res, "model", None)
     if analysis is None or m is None:
         raise JsonRpcInvalidParams("cannot analyse the launch file or its model")
     feature_names = {f.name for f in m.features} | {f.long_name for f in m.features}
     features = [a.name for a in analysis.feature_args
                 if a.name in feature_names and getattr(a, "value", None) is None]
-    roots = ls.roots_for(launch)
+    roots = write_roots(ls, launch)
     try:
         out_dir = resolve_folder(opts.get("folder") or ls.settings.generate_folder, launch, roots)
     except GenerateError as e:

@@ -58,6 +58,8 @@ def register(ls) -> None:
 
 async def _write(ls, files: list[dict], roots: list[str]) -> list[str]:
     from ...project.generate import GeneratedFile, inside
+    if ls.roots:  # (the configurator's roots are the model's workspace; writes: the folders)
+        roots = [r for r in roots if inside(r, ls.roots)] or list(ls.roots)
     for f in files:
         if not inside(f["path"], roots):
             raise JsonRpcInvalidParams(f"{f['path']} is outside the workspace: not written")
