@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Optional
 
 from ..base.diagnostics import Diagnostic
+from ..project import budget as file_budget
 from ..project import facts as _facts
 from . import checks
 from .documents import content_key
@@ -129,16 +130,21 @@ class Scheduler:
                 afut = asyncio.wrap_future(cfut)
                 afut.add_done_callback(_consume)
                 self._check_running[uri] = afut
-                diags = await asyncio.wait_for(asyncio.shield(afut), timeout=budget + 10)
+                # the worker stops a check at the per-file CPU budget (as --check does, with
+                # analysis-budget-exceeded); this wall-clock limit is the backstop behind it
+                diags = await asyncio.wait_for(asyncio.shield(afut), timeout=max(budget, file_budget.CPU_SECONDS) + 10)
             except asyncio.TimeoutError:
                 log.warning("check of %s ran out of its time budget", path)
                 self.restart_check_pool()
+                self._budget_exceeded(uri, version, generation, path, "more time than its budget")
                 return
             except asyncio.CancelledError:
                 raise
             except BrokenProcessPool:
                 log.warning("the check process died; restarting it")
                 self.restart_check_pool()
+                self._budget_exceeded(uri, version, generation, path, "more memory or time than its budget "
+                                      "(its check process died)")
                 return
             except Exception:
                 log.exception("check of %s failed", path)
@@ -152,6 +158,15 @@ class Scheduler:
             self.prefetch_facts(path, kind)
         except asyncio.CancelledError:
             pass
+
+    def _budget_exceeded(self, uri: str, version, generation, path: str, what: str) -> None:
+        """Say so, rather than leave the last (or no) result standing: the file gets one
+        ``analysis-budget-exceeded`` error, as ``--check`` gives it."""
+        doc = self.docs.get(uri)
+        if doc is None or doc.version != version or self._generation.get(uri) != generation:
+            return
+        self.results[uri] = CheckResult(version, "full", [file_budget.exceeded(path, what)])
+        self.publish(uri)
 
     def prefetch_facts(self, path: str, kind: str) -> None:
         """Start counting the products of the model behind ``path`` (the model itself, or the
