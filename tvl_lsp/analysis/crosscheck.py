@@ -494,6 +494,12 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                 grew = True
 
     def troubled(e) -> bool:
+        # a load-time problem in any attribute of the element (e.g. a group's ns reading an
+        # unset arg): roslaunch fails on the element there, its condition says nothing more
+        for a in e.attrs.values():
+            vs = getattr(a, "value_span", None)
+            if vs is not None and any(vs.start <= s.start and s.end <= vs.end for s in trouble):
+                return True
         for key in ("if", "unless"):
             a = e.attrs.get(key)
             if a is None:
