@@ -247,16 +247,17 @@ def test_analysis_says_its_dialect(name, dialect):
 
 
 def test_an_installed_file_maps_back_to_its_source(tmp_path):
-    """$(find-pkg-share p)/launch/r1.launch.xml where the package keeps it in launch/robots/
-    (its build installs it flat): the one file of that name in the package is followed."""
-    pkg = tmp_path / "ws" / "src" / "p"
+    """$(find-pkg-share pk)/launch/r1.launch.xml where the package keeps it in launch/robots/
+    (its build installs it flat): the one file of that name in the package is followed.  (A package
+    name has two characters at least: ament_index refuses "p".)"""
+    pkg = tmp_path / "ws" / "src" / "pk"
     (pkg / "launch" / "robots").mkdir(parents=True)
-    (pkg / "package.xml").write_text("<package format='3'><name>p</name><export><build_type>ament_cmake"
+    (pkg / "package.xml").write_text("<package format='3'><name>pk</name><export><build_type>ament_cmake"
                                      "</build_type></export></package>")
     main_file = pkg / "launch" / "main.launch.xml"
-    main_file.write_text('<launch>\n  <include file="$(find-pkg-share p)/launch/r1.launch.xml"/>\n</launch>\n')
+    main_file.write_text('<launch>\n  <include file="$(find-pkg-share pk)/launch/r1.launch.xml"/>\n</launch>\n')
     (pkg / "launch" / "robots" / "r1.launch.xml").write_text(
-        '<launch>\n  <node pkg="p" exec="x" name="r1node" namespace="$(var undeclared)"/>\n</launch>\n')
+        '<launch>\n  <node pkg="pk" exec="x" name="r1node" namespace="$(var undeclared)"/>\n</launch>\n')
     diags = check_document(str(main_file))
     assert [d.code for d in diags] == ["undefined-arg"], diags
     assert "in the included file r1.launch.xml" in diags[0].message
