@@ -313,3 +313,11 @@ def test_a_tag_of_a_launch_extension_in_the_workspace_is_a_note_not_an_error(tmp
     assert ("unknown-tag", 1) in codes and "extension-tag" not in {c for c, _ in codes}
     res = load_launch2(str(other), {}, workspace_root=str(ws), env={})
     assert res.error and "Unrecognized entity of the type: mark" in res.error
+
+
+def test_a_condition_reading_a_let_computed_from_an_overridable_arg_is_neither_dead_nor_constant():
+    # ros2 launch with mode:=real starts real_lidar (golden let_from_arg_real): --check once
+    # called it dead and sim_lidar's condition constant, taking mode at its default
+    p = Path(__file__).resolve().parent / "data" / "ros2" / "ws" / "src" / "r2_bringup" / "launch" / \
+        "let_from_arg.launch.xml"
+    assert [d.code for d in check_document(str(p))] == []
