@@ -309,3 +309,36 @@ def test_an_undeclared_arg_the_command_line_may_give_is_a_warning_and_a_typo_an_
                               "main.launch": '<launch><include file="$(dirname)/child.launch"/></launch>'})
     (d,) = [d for d in diags if d.code == "undefined-arg"]
     assert d.severity == Severity.ERROR
+
+
+def test_attributes_reading_an_arg_whose_default_failed_report_nothing():
+    # roslaunch stops at the first default that reads the unset 'camera' (a warning: the command
+    # line gives it); the remaps, names and params reading points_in / points_out / test_name
+    # are never computed, so no check looks at them (tvl-lsp once called them invalid remaps)
+    path = WS / "src" / "delta" / "launch" / "unset_arg_in_default.launch"
+    diags = check_paths([str(path)], jobs=1)
+    assert [d for d in diags if d.severity == Severity.ERROR] == []
+    assert {d.code for d in diags} == {"unset-arg"}
+    # with camera:=front, what roslaunch 1.15 loads (recorded from it)
+    r = load_launch(str(path), {"camera": "front"}, packages=PK)
+    assert r.error is None
+    assert [(n["name"], n["remaps"]) for n in r.nodes] == [
+        ("/front/points/flip", [["/front/points/halt", "/front_upright/points/halt"], ["~in", "/front/points"],
+                               ["~out", "/front_upright/points"]])]
+    assert r.params == {"/front/points/flip/topic": "/front_upright/points",
+                        "/front/points/flip/front/points/frame": "front_link"}
+    assert load_launch(str(path), {}, packages=PK).error is not None
+
+
+def test_elements_under_a_group_whose_ns_reads_an_unset_arg_are_not_dead():
+    # robot:=... comes from the command line: then both groups and all their nodes load (as
+    # roslaunch 1.15 loads them, recorded below); --check once called the nodes in the first
+    # group and the second group "never loaded whatever the file's args"
+    path = WS / "src" / "delta" / "launch" / "unset_arg_group_ns.launch"
+    diags = check_paths([str(path)], jobs=1)
+    assert [d.code for d in diags] == ["unset-arg", "unset-arg"]
+    assert all(d.severity == Severity.WARNING for d in diags)
+    nodes = lambda **a: sorted(n["name"] for n in load_launch(str(path), a, packages=PK).nodes)  # noqa: E731
+    assert nodes(robot="r1") == ["/r1/arm", "/r1/arm/gripper"]
+    assert nodes(robot="r1", with_arm="false") == ["/r1/base"]
+    assert load_launch(str(path), {}, packages=PK).error is not None

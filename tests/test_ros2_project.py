@@ -247,16 +247,17 @@ def test_analysis_says_its_dialect(name, dialect):
 
 
 def test_an_installed_file_maps_back_to_its_source(tmp_path):
-    """$(find-pkg-share p)/launch/r1.launch.xml where the package keeps it in launch/robots/
-    (its build installs it flat): the one file of that name in the package is followed."""
-    pkg = tmp_path / "ws" / "src" / "p"
+    """$(find-pkg-share pk)/launch/r1.launch.xml where the package keeps it in launch/robots/
+    (its build installs it flat): the one file of that name in the package is followed.  (A package
+    name has two characters at least: ament_index refuses "p".)"""
+    pkg = tmp_path / "ws" / "src" / "pk"
     (pkg / "launch" / "robots").mkdir(parents=True)
-    (pkg / "package.xml").write_text("<package format='3'><name>p</name><export><build_type>ament_cmake"
+    (pkg / "package.xml").write_text("<package format='3'><name>pk</name><export><build_type>ament_cmake"
                                      "</build_type></export></package>")
     main_file = pkg / "launch" / "main.launch.xml"
-    main_file.write_text('<launch>\n  <include file="$(find-pkg-share p)/launch/r1.launch.xml"/>\n</launch>\n')
+    main_file.write_text('<launch>\n  <include file="$(find-pkg-share pk)/launch/r1.launch.xml"/>\n</launch>\n')
     (pkg / "launch" / "robots" / "r1.launch.xml").write_text(
-        '<launch>\n  <node pkg="p" exec="x" name="r1node" namespace="$(var undeclared)"/>\n</launch>\n')
+        '<launch>\n  <node pkg="pk" exec="x" name="r1node" namespace="$(var undeclared)"/>\n</launch>\n')
     diags = check_document(str(main_file))
     assert [d.code for d in diags] == ["undefined-arg"], diags
     assert "in the included file r1.launch.xml" in diags[0].message
@@ -312,3 +313,11 @@ def test_a_tag_of_a_launch_extension_in_the_workspace_is_a_note_not_an_error(tmp
     assert ("unknown-tag", 1) in codes and "extension-tag" not in {c for c, _ in codes}
     res = load_launch2(str(other), {}, workspace_root=str(ws), env={})
     assert res.error and "Unrecognized entity of the type: mark" in res.error
+
+
+def test_a_condition_reading_a_let_computed_from_an_overridable_arg_is_neither_dead_nor_constant():
+    # ros2 launch with mode:=real starts real_lidar (golden let_from_arg_real): --check once
+    # called it dead and sim_lidar's condition constant, taking mode at its default
+    p = Path(__file__).resolve().parent / "data" / "ros2" / "ws" / "src" / "r2_bringup" / "launch" / \
+        "let_from_arg.launch.xml"
+    assert [d.code for d in check_document(str(p))] == []

@@ -482,9 +482,10 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
     def reads_overridable(value: str) -> bool:
         return bool(reads(value) & overridable)
 
-    # an arg whose value is computed from an overridable one is as good as overridable
+    # an arg whose value is computed from an overridable one is as good as overridable (ROS 1
+    # <arg value>, ROS 2 <let value>)
     computed = [(e.attrs["name"].value, e.attrs["value"].value) for e in launch.elements
-                if e.tag == "arg" and "name" in e.attrs and "value" in e.attrs and e.path == launch.path]
+                if e.tag in ("arg", "let") and "name" in e.attrs and "value" in e.attrs and e.path == launch.path]
     grew = True
     while grew:
         grew = False
@@ -494,6 +495,12 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                 grew = True
 
     def troubled(e) -> bool:
+        # a load-time problem in any attribute of the element (e.g. a group's ns reading an
+        # unset arg): roslaunch fails on the element there, its condition says nothing more
+        for a in e.attrs.values():
+            vs = getattr(a, "value_span", None)
+            if vs is not None and any(vs.start <= s.start and s.end <= vs.end for s in trouble):
+                return True
         for key in ("if", "unless"):
             a = e.attrs.get(key)
             if a is None:

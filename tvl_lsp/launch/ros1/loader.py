@@ -265,8 +265,11 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
                 cond = self.ifunless(x, el, sc, guard)
                 if cond == FALSE:
                     continue
-                el.condition = disj([el.condition, cond])
-                for c, child in self.ns_clear_params(x, el, sc, cond, "group"):
+                # the group is entered where its ns resolves (roslaunch fails on it elsewhere,
+                # e.g. an ns reading an unset arg): its children are loaded there only
+                scoped = self.ns_clear_params(x, el, sc, cond, "group")
+                el.condition = disj([el.condition] + [c for c, _ in scoped])
+                for c, child in scoped:
                     child.params = list(child.params)  # roslaunch copies a group's params
                     child.params_link = None
                     self.recurse(x.children, child, c, emap)

@@ -101,20 +101,26 @@ class ScopeRules:
     # ---------------------------------------------------------------- substitution
 
     def resolve(self, x: XElement, el: Element, name: str, sc: Scope, guard: Formula,
-                where: str = "") -> Optional[Cases]:
+                where: str = "", keep_poison: bool = False) -> Optional[Cases]:
         """Cases of attribute ``name`` (None if absent). Errors become facts; the cases
         cover ``guard`` minus the error cases."""
         a = x.attrs.get(name)
         if a is None:
             return None
-        return self.resolve_text(a.value, a, el, sc, guard, where)
+        return self.resolve_text(a.value, a, el, sc, guard, where, keep_poison=keep_poison)
 
     def resolve_text(self, value: str, a: Optional[XAttr], el: Element, sc: Scope, guard: Formula,
-                     where: str = "", spans=None) -> Cases:
+                     where: str = "", spans=None, keep_poison: bool = False) -> Cases:
         """Cases of ``value`` with its substitution args resolved (roslaunch's resolve_args).
         ``spans(i, j)`` gives the source range of ``value[i:j]`` (default: inside attribute
-        ``a``, or the element)."""
+        ``a``, or the element).  A case that reads an arg whose own value failed to evaluate
+        (``POISON``: roslaunch stops at that arg, and that failure is reported where it
+        happens) is an error case like any other and is left out, so that no check of the
+        attribute reports a value roslaunch never computes (``keep_poison``: kept, for
+        ``if``/``unless``, which take such a case as loaded)."""
         out = self._resolve_text(value, a, el, sc, guard, where, spans)
+        if not keep_poison:
+            out = [(c, v) for c, v in out if POISON not in v]
         if self.typing is not None and not self.flow:
             self.typing.sink(out)
         return out
@@ -387,8 +393,8 @@ class ScopeRules:
             return FALSE
         self.flow += 1  # an if/unless value is not a string use of the args it reads (arg typing)
         try:
-            ifc = self.resolve(x, el, "if", sc, guard, where)
-            unc = self.resolve(x, el, "unless", sc, guard, where)
+            ifc = self.resolve(x, el, "if", sc, guard, where, keep_poison=True)
+            unc = self.resolve(x, el, "unless", sc, guard, where, keep_poison=True)
         finally:
             self.flow -= 1
         if ifc is None and unc is None:

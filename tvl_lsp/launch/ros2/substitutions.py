@@ -293,6 +293,13 @@ class SubstEval:
     def find_package(self, pkg: str, share: bool, c: Formula, path: str, span: Span) -> Optional[str]:
         if opaque(pkg):
             return OPAQUE
+        if re.fullmatch(r"[a-zA-Z0-9][a-zA-Z0-9_-]+", pkg, re.ASCII) is None:
+            # ament_index_python's get_package_prefix (REP 127 names) refuses the name before
+            # it looks for the package, installed or not
+            msg = f"'{pkg}' is not a valid package name"
+            self.fact(PACKAGE_NOT_FOUND, f"{msg}: ament_index accepts letters, digits, '_' and '-', at least "
+                      "two characters, not starting with '_' or '-'", path, span, c, launch=("ValueError", msg))
+            return None
         folder = self.packages.get(pkg)
         if folder is not None:
             if share:
