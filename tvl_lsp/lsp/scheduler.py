@@ -50,6 +50,7 @@ class Scheduler:
         self.results: dict[str, CheckResult] = {}
         self._facts_futures: dict[str, asyncio.Future] = {}
         self._facts_queued: dict[str, tuple] = {}
+        self._facts_submitted: dict[str, asyncio.Event] = {}  # set once a count is in a pool's queue
 
     # ------------------------------------------------------------ scheduling
     def schedule(self, uri: str, syntax: bool = True) -> None:
@@ -122,6 +123,10 @@ class Scheduler:
                     pass
                 if self._generation.get(uri) != generation:
                     return
+            if kind in _facts.MODEL_KINDS:
+                await self._facts_before_check(path)
+                if self._generation.get(uri) != generation:
+                    return
             try:
                 log.info("check of %s: submitted", path)
                 cfut = self.check_pool.submit(checks.full_check_worker, kind, path, text, texts,
@@ -152,6 +157,23 @@ class Scheduler:
             self.prefetch_facts(path, kind)
         except asyncio.CancelledError:
             pass
+
+    async def _facts_before_check(self, path: str) -> None:
+        """Queue the counts of the model at ``path`` in the check process *before* its check:
+        when the model was compiled before (the counting cache), the counts are then one
+        parse, one encoding and one pass away (the check reuses that parse), instead of
+        waiting for the whole anomaly search; otherwise this starts d4 in the background
+        before the check (every model format) and the counts follow the check."""
+        submitted = asyncio.Event()
+        task = asyncio.ensure_future(self.model_facts(path, submitted=submitted))
+        task.add_done_callback(_consume)
+        waiter = asyncio.ensure_future(submitted.wait())
+        try:
+            # (the wait is for the server's parse of the model, which the syntax pass of the
+            # same text has usually begun: model_sources)
+            await asyncio.wait({task, waiter}, timeout=10.0, return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            waiter.cancel()
 
     def prefetch_facts(self, path: str, kind: str) -> None:
         """Start counting the products of the model behind ``path`` (the model itself, or the
@@ -197,17 +219,28 @@ class Scheduler:
     def facts_ready(self, sources: dict[str, str]):
         return self.cache.get(("facts", content_key(*sorted(f"{k}\0{v}" for k, v in sources.items()))))
 
-    async def model_facts(self, model_path: str, wait: Optional[float] = None):
+    async def model_facts(self, model_path: str, wait: Optional[float] = None,
+                          submitted: Optional[asyncio.Event] = None):
         """Counts and anomalies of a model, computed in a worker process (so a slow count
         never blocks the event loop), cached by content.  With ``wait``, give up waiting
-        after that many seconds (the computation goes on and lands in the cache)."""
-        sources = await self.model_sources(model_path)
+        after that many seconds (the computation goes on and lands in the cache).
+        ``submitted`` is set once the work is queued (or not needed)."""
+        try:
+            sources = await self.model_sources(model_path)
+        except BaseException:
+            if submitted is not None:
+                submitted.set()
+            raise
         if sources is None:
+            if submitted is not None:
+                submitted.set()
             return None
         budget = self.settings.time_budget
         key = ("facts", content_key(*sorted(f"{k}\0{v}" for k, v in sources.items())), budget)
         hit = self.cache.get(key)
         if hit is not None:
+            if submitted is not None:
+                submitted.set()
             return hit
         # a count queued for an older text of this model is stale: drop it
         old = self._facts_queued.get(model_path)
@@ -230,6 +263,7 @@ class Scheduler:
                         cfut = self.check_pool.submit(_facts.compute_model_facts, model_path, sources, budget,
                                                       FACTS_POLL)
                         self._facts_queued[model_path] = (key[1], cfut)
+                        queued.set()
                         afut = asyncio.wrap_future(cfut)
                         afut.add_done_callback(_consume)
                         facts = await asyncio.wait_for(asyncio.shield(afut), max(1.0, end - loop.time()) + 10)
@@ -239,8 +273,8 @@ class Scheduler:
                         if loop.time() > end:
                             return _facts.ModelFacts(error=f"no count within {budget:g} s")
                         await asyncio.sleep(FACTS_POLL)
-                        queued = self._facts_queued.get(model_path)
-                        if queued is not None and queued[0] != key[1]:
+                        latest = self._facts_queued.get(model_path)
+                        if latest is not None and latest[0] != key[1]:
                             return _facts.ModelFacts(error="cancelled: the model changed")
                     if facts.pending == "fallback":
                         # d4 cannot count it: pyganak, one count per feature, in the count
@@ -272,9 +306,22 @@ class Scheduler:
                 try:
                     return await self.with_progress(f"Counting the products of {Path(model_path).name}", compute())
                 finally:
+                    queued.set()
                     self._facts_futures.pop(key[1], None)
+                    self._facts_submitted.pop(key[1], None)
+            queued = self._facts_submitted[key[1]] = asyncio.Event()
             fut = loop.create_task(run())
             self._facts_futures[key[1]] = fut
+        if submitted is not None:  # once this text's count is queued (now or by an earlier caller)
+            in_queue = self._facts_submitted.get(key[1])
+            if in_queue is None:
+                submitted.set()
+            else:
+                async def relay():
+                    await in_queue.wait()
+                    submitted.set()
+                relay_task = asyncio.ensure_future(relay())
+                relay_task.add_done_callback(_consume)
         if wait is None:
             return await asyncio.shield(fut)
         try:

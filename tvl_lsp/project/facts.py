@@ -69,7 +69,9 @@ def compute_model_facts(path: str, sources: dict[str, str], timeout: float,
             from .workspace import norm
             st = svc.start(timeout, owner=norm(path))
             if st.state == "compiling":
-                st = svc.wait(wait)
+                # read back from the counting cache (compiled before): no d4 run, only the
+                # circuit to parse, so wait for it rather than queue the counts again
+                st = svc.wait(timeout if svc.on_disk() else wait)
             if st.state in ("compiling", "idle"):
                 return ModelFacts(pending="compiling", seconds=time.perf_counter() - t0)
             if st.state in ("failed", "unusable"):

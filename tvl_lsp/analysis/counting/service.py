@@ -251,6 +251,20 @@ class CNFCounter:
             return Compiled(circ, self.key, str(p) if p else None, time.perf_counter() - t0, source)
         raise EngineFailed("the compiled d-DNNF could not be read back from the cache")
 
+    def feature_counts_if_ready(self, assumptions: Sequence[int] = ()) -> Optional[FeatureCounts]:
+        """:meth:`feature_counts` when the compiled circuit is in memory (one pass, no
+        compiling, no waiting), else None."""
+        circ = MEMORY.get(self.key) if self.d4_usable() and not self.trivially_unsat else None
+        if circ is None:
+            return None
+        t0 = time.perf_counter()
+        r = circ.counts(self._check_lits(assumptions))
+        return FeatureCounts(r.total, r.positive[: self.n_features + 1], "d4", time.perf_counter() - t0)
+
+    def on_disk(self) -> bool:
+        """Is the compiled d-DNNF in the disk cache (ready after a read, no d4 run)?"""
+        return DISK.has(self.key)
+
     # ------------------------------------------------------------------ in the background
     def ready(self) -> bool:
         """Is the compiled circuit in memory (every count a pass, no waiting)?"""
