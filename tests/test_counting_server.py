@@ -261,3 +261,72 @@ def test_a_launch_file_check_is_not_delayed_by_counts():
         await srv._full_pass("file://m", 1)
     asyncio.run(main())
     assert srv.pool.calls == ["full_check_worker"]
+
+
+# ------------------------------------------------------------------ while the check process checks
+
+def test_facts_without_compiling_wait_for_another_process(fresh_cache, monkeypatch):
+    """The count process asks with compile=False: it never starts d4 (the check process's d4
+    compiles the model), and counts as soon as the circuit is in the disk cache."""
+    src = {str(CARDS): CARDS.read_text()}
+    started = []
+    real_start = S.CNFCounter.start
+
+    def start(self, *a, **k):
+        started.append(self.key)
+        return real_start(self, *a, **k)
+    monkeypatch.setattr(S.CNFCounter, "start", start)
+    f = F.compute_model_facts(str(CARDS), src, 30.0, wait=0.05, compile=False)
+    assert f.pending == "compiling" and not started
+    models.load(str(CARDS), src[str(CARDS)], src.get)[1].counter.circuit()  # "another process"
+    S.MEMORY.clear()
+    models.clear()
+    f = F.compute_model_facts(str(CARDS), src, 30.0, wait=0.05, compile=False)
+    assert f.pending is None and f.total and f.per_feature
+
+
+class _BusyCheckPool:
+    """A check process busy with a long check: every counts question answers "compiling"."""
+
+    def __init__(self):
+        self.calls = []
+
+    def submit(self, fn, *args):
+        self.calls.append(args)
+        fut = cf.Future()
+        fut.set_result(F.ModelFacts(pending="compiling"))
+        return fut
+
+
+class _CountPool:
+    def __init__(self):
+        self.calls = []
+
+    def submit(self, fn, *args):
+        self.calls.append(args)
+        fut = cf.Future()
+        compile_ = args[4] if len(args) > 4 else True
+        fut.set_result(F.ModelFacts(total=7) if not compile_ else F.ModelFacts(pending="compiling"))
+        return fut
+
+
+class _Counting(_Server):
+    def __init__(self, path, text):
+        super().__init__(path, text)
+        self.pool = _BusyCheckPool()
+        self.counts = _CountPool()
+        self.settings.time_budget = 1.0
+
+    @property
+    def proc_pool(self):
+        return self.counts
+
+
+def test_counts_come_from_the_count_process_while_the_check_process_checks():
+    srv = _Counting("/w/m.uvl", "features\n\tM\n")
+
+    async def main():
+        return await srv.model_facts("/w/m.uvl")
+    facts = asyncio.run(main())
+    assert facts.total == 7, facts
+    assert srv.counts.calls and all(c[4] is False for c in srv.counts.calls)  # never compiles there

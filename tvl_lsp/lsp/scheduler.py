@@ -259,23 +259,50 @@ class Scheduler:
                     # d4 compiles in the background there and the check process stays free
                     # for checks: ask again until the circuit is ready, then one pass counts
                     end = loop.time() + budget + 30
-                    while True:
-                        cfut = self.check_pool.submit(_facts.compute_model_facts, model_path, sources, budget,
-                                                      FACTS_POLL)
-                        self._facts_queued[model_path] = (key[1], cfut)
+
+                    def ask_check_process():
+                        c = self.check_pool.submit(_facts.compute_model_facts, model_path, sources, budget,
+                                                   FACTS_POLL)
+                        self._facts_queued[model_path] = (key[1], c)
                         queued.set()
-                        afut = asyncio.wrap_future(cfut)
-                        afut.add_done_callback(_consume)
-                        facts = await asyncio.wait_for(asyncio.shield(afut), max(1.0, end - loop.time()) + 10)
-                        if facts.pending != "compiling":
-                            log.info("facts of %s: %s", model_path, facts.pending or "counted")
-                            break
+                        a = asyncio.wrap_future(c)
+                        a.add_done_callback(_consume)
+                        return c, a
+
+                    cfut, afut = ask_check_process()
+                    facts = await asyncio.wait_for(asyncio.shield(afut), max(1.0, end - loop.time()) + 10)
+                    source = "check"
+                    while facts.pending == "compiling":
+                        # d4 compiles in the check process's background while that process
+                        # checks; the counts are asked of the count process too, which never
+                        # compiles but reads the circuit back from the disk cache as soon as d4
+                        # has written it -- the next question to the check process waits
+                        # behind its check (it still settles a failed compilation: fallback)
                         if loop.time() > end:
                             return _facts.ModelFacts(error=f"no count within {budget:g} s")
                         await asyncio.sleep(FACTS_POLL)
                         latest = self._facts_queued.get(model_path)
                         if latest is not None and latest[0] != key[1]:
                             return _facts.ModelFacts(error="cancelled: the model changed")
+                        if afut.done():
+                            if afut.cancelled():
+                                return _facts.ModelFacts(error="cancelled: the model changed")
+                            if afut.exception() is not None:
+                                raise afut.exception()
+                            if afut.result().pending != "compiling":
+                                facts = afut.result()
+                                break
+                            cfut, afut = ask_check_process()
+                        pool_of = "count"
+                        pfut = asyncio.wrap_future(self.proc_pool.submit(
+                            _facts.compute_model_facts, model_path, sources, budget, FACTS_POLL, False))
+                        pfut.add_done_callback(_consume)
+                        got = await asyncio.wait_for(asyncio.shield(pfut), max(1.0, end - loop.time()) + 10)
+                        pool_of = "check"
+                        if got.pending != "compiling":
+                            facts, source = got, "count"
+                            cfut.cancel()  # (when still queued behind the check)
+                    log.info("facts of %s: %s (the %s process)", model_path, facts.pending or "counted", source)
                     if facts.pending == "fallback":
                         # d4 cannot count it: pyganak, one count per feature, in the count
                         # process (a slow count there never delays a check)
