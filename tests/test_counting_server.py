@@ -330,3 +330,26 @@ def test_counts_come_from_the_count_process_while_the_check_process_checks():
     facts = asyncio.run(main())
     assert facts.total == 7, facts
     assert srv.counts.calls and all(c[4] is False for c in srv.counts.calls)  # never compiles there
+
+
+def test_a_click_makes_one_pass_for_what_it_forces_and_every_count(fresh_cache, monkeypatch):
+    """A configurator click asks for the same decisions twice (propagation, then the counts):
+    the second answer is the first pass's, and other decisions get their own pass."""
+    from tvl_lsp.analysis.counting.circuit import Circuit
+    a = load(CARDS)
+    a.counter.circuit()
+    names = [a.name(f) for f in a.encoding.features]
+    passes = []
+    real = Circuit.counts
+
+    def counting(self, lits=()):
+        passes.append(list(lits))
+        return real(self, lits)
+    monkeypatch.setattr(Circuit, "counts", counting)
+    p = configure.propagate(a, {names[1]: True}, count=False)
+    r = a.feature_counts_result(include=[names[1]])
+    assert len(passes) == 1 and r.total == a.count(include=[names[1]]) and p.ok
+    r2 = a.feature_counts_result(exclude=[names[1]])
+    assert len(passes) == 2 and r2.total + r.total == a.count()
+    r.counts[1] = -1  # a caller's change never reaches the next answer
+    assert a.feature_counts_result(include=[names[1]]).counts[1] != -1
