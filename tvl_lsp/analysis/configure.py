@@ -42,6 +42,16 @@ class Propagation:
         return self.conflict is None
 
 
+def _from_circuit(analysis, lits: list[int]):
+    """Every feature's count under ``lits`` from the model's compiled d-DNNF when it is in
+    memory (None otherwise, or when the decisions conflict: the SAT path finds the minimal set
+    of conflicting decisions)."""
+    if getattr(type(analysis), "counter", None) is None:
+        return None
+    r = analysis.counter.feature_counts_if_ready(lits)
+    return r if r is not None and r.total else None
+
+
 def propagate(analysis: Countable, decisions: Mapping[str, bool], count: bool = True,
               timeout: Optional[float] = 5.0) -> Propagation:
     enc = analysis.encoding
@@ -50,6 +60,19 @@ def propagate(analysis: Countable, decisions: Mapping[str, bool], count: bool = 
         v = enc.var(name)
         lits[v if val else -v] = name
     res = Propagation(dict(decisions))
+    fast = _from_circuit(analysis, list(lits))
+    if fast is not None:
+        # the model is compiled: one pass over the d-DNNF gives every feature's count under
+        # the decisions, and so what they force (count = remaining: in every product; 0: in
+        # none) and the remaining count -- instead of a SAT call per open feature
+        decided = {abs(x) for x in lits}
+        forced = {v: fast.counts[v] == fast.total for v in enc.var_of_feature.values()
+                  if v not in decided and fast.counts[v] in (0, fast.total)}
+        res.forced = {enc.name_of(enc.feature_of_var[v]): val for v, val in sorted(forced.items())}
+        res.open = [enc.name_of(f) for f, v in enc.var_of_feature.items()
+                    if v not in decided and v not in forced]
+        res.count = fast.total if count else None
+        return res
     conflict, forced = decide(enc, list(lits))
     if conflict is not None:
         res.conflict = [lits[x] for x in conflict]

@@ -124,7 +124,7 @@ def full_check_worker(kind: str, path: str, text: str, texts: dict[str, str], ro
         check.invalidate_workspaces()
         _LAST_EPOCH[0] = epoch
     read = SnapshotReader(texts)
-    if kind == "tvl":
+    if kind in ("tvl", "uvl", "dimacs"):  # (every model format: project.facts.MODEL_KINDS)
         _start_compiling(path, text, read, budget)
     return full_check(kind, path, text, read, roots, budget, None)
 

@@ -51,6 +51,7 @@ class Scheduler:
         self.results: dict[str, CheckResult] = {}
         self._facts_futures: dict[str, asyncio.Future] = {}
         self._facts_queued: dict[str, tuple] = {}
+        self._facts_submitted: dict[str, asyncio.Event] = {}  # set once a count is in a pool's queue
 
     # ------------------------------------------------------------ scheduling
     def schedule(self, uri: str, syntax: bool = True) -> None:
@@ -123,6 +124,10 @@ class Scheduler:
                     pass
                 if self._generation.get(uri) != generation:
                     return
+            if kind in _facts.MODEL_KINDS:
+                await self._facts_before_check(path)
+                if self._generation.get(uri) != generation:
+                    return
             try:
                 log.info("check of %s: submitted", path)
                 cfut = self.check_pool.submit(checks.full_check_worker, kind, path, text, texts,
@@ -168,6 +173,23 @@ class Scheduler:
         self.results[uri] = CheckResult(version, "full", [file_budget.exceeded(path, what)])
         self.publish(uri)
 
+    async def _facts_before_check(self, path: str) -> None:
+        """Queue the counts of the model at ``path`` in the check process *before* its check:
+        when the model was compiled before (the counting cache), the counts are then one
+        parse, one encoding and one pass away (the check reuses that parse), instead of
+        waiting for the whole anomaly search; otherwise this starts d4 in the background
+        before the check (every model format) and the counts follow the check."""
+        submitted = asyncio.Event()
+        task = asyncio.ensure_future(self.model_facts(path, submitted=submitted))
+        task.add_done_callback(_consume)
+        waiter = asyncio.ensure_future(submitted.wait())
+        try:
+            # (the wait is for the server's parse of the model, which the syntax pass of the
+            # same text has usually begun: model_sources)
+            await asyncio.wait({task, waiter}, timeout=10.0, return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            waiter.cancel()
+
     def prefetch_facts(self, path: str, kind: str) -> None:
         """Start counting the products of the model behind ``path`` (the model itself, or the
         models paired with a launch file) in the background, so that the first hover and the
@@ -212,17 +234,28 @@ class Scheduler:
     def facts_ready(self, sources: dict[str, str]):
         return self.cache.get(("facts", content_key(*sorted(f"{k}\0{v}" for k, v in sources.items()))))
 
-    async def model_facts(self, model_path: str, wait: Optional[float] = None):
+    async def model_facts(self, model_path: str, wait: Optional[float] = None,
+                          submitted: Optional[asyncio.Event] = None):
         """Counts and anomalies of a model, computed in a worker process (so a slow count
         never blocks the event loop), cached by content.  With ``wait``, give up waiting
-        after that many seconds (the computation goes on and lands in the cache)."""
-        sources = await self.model_sources(model_path)
+        after that many seconds (the computation goes on and lands in the cache).
+        ``submitted`` is set once the work is queued (or not needed)."""
+        try:
+            sources = await self.model_sources(model_path)
+        except BaseException:
+            if submitted is not None:
+                submitted.set()
+            raise
         if sources is None:
+            if submitted is not None:
+                submitted.set()
             return None
         budget = self.settings.time_budget
         key = ("facts", content_key(*sorted(f"{k}\0{v}" for k, v in sources.items())), budget)
         hit = self.cache.get(key)
         if hit is not None:
+            if submitted is not None:
+                submitted.set()
             return hit
         # a count queued for an older text of this model is stale: drop it
         old = self._facts_queued.get(model_path)
@@ -241,22 +274,50 @@ class Scheduler:
                     # d4 compiles in the background there and the check process stays free
                     # for checks: ask again until the circuit is ready, then one pass counts
                     end = loop.time() + budget + 30
-                    while True:
-                        cfut = self.check_pool.submit(_facts.compute_model_facts, model_path, sources, budget,
-                                                      FACTS_POLL)
-                        self._facts_queued[model_path] = (key[1], cfut)
-                        afut = asyncio.wrap_future(cfut)
-                        afut.add_done_callback(_consume)
-                        facts = await asyncio.wait_for(asyncio.shield(afut), max(1.0, end - loop.time()) + 10)
-                        if facts.pending != "compiling":
-                            log.info("facts of %s: %s", model_path, facts.pending or "counted")
-                            break
+
+                    def ask_check_process():
+                        c = self.check_pool.submit(_facts.compute_model_facts, model_path, sources, budget,
+                                                   FACTS_POLL)
+                        self._facts_queued[model_path] = (key[1], c)
+                        queued.set()
+                        a = asyncio.wrap_future(c)
+                        a.add_done_callback(_consume)
+                        return c, a
+
+                    cfut, afut = ask_check_process()
+                    facts = await asyncio.wait_for(asyncio.shield(afut), max(1.0, end - loop.time()) + 10)
+                    source = "check"
+                    while facts.pending == "compiling":
+                        # d4 compiles in the check process's background while that process
+                        # checks; the counts are asked of the count process too, which never
+                        # compiles but reads the circuit back from the disk cache as soon as d4
+                        # has written it -- the next question to the check process waits
+                        # behind its check (it still settles a failed compilation: fallback)
                         if loop.time() > end:
                             return _facts.ModelFacts(error=f"no count within {budget:g} s")
                         await asyncio.sleep(FACTS_POLL)
-                        queued = self._facts_queued.get(model_path)
-                        if queued is not None and queued[0] != key[1]:
+                        latest = self._facts_queued.get(model_path)
+                        if latest is not None and latest[0] != key[1]:
                             return _facts.ModelFacts(error="cancelled: the model changed")
+                        if afut.done():
+                            if afut.cancelled():
+                                return _facts.ModelFacts(error="cancelled: the model changed")
+                            if afut.exception() is not None:
+                                raise afut.exception()
+                            if afut.result().pending != "compiling":
+                                facts = afut.result()
+                                break
+                            cfut, afut = ask_check_process()
+                        pool_of = "count"
+                        pfut = asyncio.wrap_future(self.proc_pool.submit(
+                            _facts.compute_model_facts, model_path, sources, budget, FACTS_POLL, False))
+                        pfut.add_done_callback(_consume)
+                        got = await asyncio.wait_for(asyncio.shield(pfut), max(1.0, end - loop.time()) + 10)
+                        pool_of = "check"
+                        if got.pending != "compiling":
+                            facts, source = got, "count"
+                            cfut.cancel()  # (when still queued behind the check)
+                    log.info("facts of %s: %s (the %s process)", model_path, facts.pending or "counted", source)
                     if facts.pending == "fallback":
                         # d4 cannot count it: pyganak, one count per feature, in the count
                         # process (a slow count there never delays a check)
@@ -287,9 +348,22 @@ class Scheduler:
                 try:
                     return await self.with_progress(f"Counting the products of {Path(model_path).name}", compute())
                 finally:
+                    queued.set()
                     self._facts_futures.pop(key[1], None)
+                    self._facts_submitted.pop(key[1], None)
+            queued = self._facts_submitted[key[1]] = asyncio.Event()
             fut = loop.create_task(run())
             self._facts_futures[key[1]] = fut
+        if submitted is not None:  # once this text's count is queued (now or by an earlier caller)
+            in_queue = self._facts_submitted.get(key[1])
+            if in_queue is None:
+                submitted.set()
+            else:
+                async def relay():
+                    await in_queue.wait()
+                    submitted.set()
+                relay_task = asyncio.ensure_future(relay())
+                relay_task.add_done_callback(_consume)
         if wait is None:
             return await asyncio.shield(fut)
         try:

@@ -78,13 +78,21 @@ class Workers:
             return await coro
         self.progress_counter += 1
         token = f"tvl-lsp-{os.getpid()}-{self.progress_counter}"
+        # the work starts now, not after the client's answer to the progress request (a
+        # round trip: the counts of a model compiled before would be queued behind its check)
+        task = asyncio.ensure_future(coro)
         try:
             await asyncio.wait_for(self.work_done_progress.create_async(token), 2)
+        except asyncio.CancelledError:
+            task.cancel()
+            raise
         except Exception:
-            return await coro
+            return await task
+        if task.done():
+            return task.result()
         self.work_done_progress.begin(token, types.WorkDoneProgressBegin(title=title, cancellable=False))
         try:
-            return await coro
+            return await task
         finally:
             self.work_done_progress.end(token, types.WorkDoneProgressEnd(message="done"))
 

@@ -53,23 +53,29 @@ def _engine(path: str, sources: dict[str, str]):
 
 
 def compute_model_facts(path: str, sources: dict[str, str], timeout: float,
-                        wait: Optional[float] = None) -> ModelFacts:
+                        wait: Optional[float] = None, compile: bool = True) -> ModelFacts:
     """Total count, per-feature counts and anomalies of the model at ``path`` (``sources``:
     its text and the texts of the files it includes).  The model is parsed and encoded once per
     process (:mod:`.models`: the check of the same text shares it).  With ``wait``, the
     compilation runs in the background (d4 in its child process, ``timeout`` seconds at most)
     and the answer comes within about ``wait`` seconds: ``pending="compiling"`` until the
-    circuit is ready (call again), ``pending="fallback"`` when d4 cannot count the model."""
+    circuit is ready (call again), ``pending="fallback"`` when d4 cannot count the model.
+    Without ``compile`` (with ``wait``), never start d4: count from a circuit in memory or
+    in the disk cache (another process compiles it), else ``pending="compiling"``."""
     t0 = time.perf_counter()
     facts = ModelFacts()
     try:
         eng = _engine(path, sources)
         if wait is not None and eng.model.root is not None:
             svc = eng.counter
+            if not compile and svc.d4_usable() and not svc.ready() and not svc.on_disk():
+                return ModelFacts(pending="compiling", seconds=time.perf_counter() - t0)
             from .workspace import norm
             st = svc.start(timeout, owner=norm(path))
             if st.state == "compiling":
-                st = svc.wait(wait)
+                # read back from the counting cache (compiled before): no d4 run, only the
+                # circuit to parse, so wait for it rather than queue the counts again
+                st = svc.wait(timeout if svc.on_disk() else wait)
             if st.state in ("compiling", "idle"):
                 return ModelFacts(pending="compiling", seconds=time.perf_counter() - t0)
             if st.state in ("failed", "unusable"):

@@ -147,6 +147,7 @@ class CNFCounter:
         self.unused_aux = self.nvars - len(self.universe)
         self.key = C.cnf_key(self.nvars, self.clauses, extra=repr(sorted((d4_options or {}).items())))
         self.last_engine: Optional[str] = None
+        self._last_pass: Optional[tuple] = None  # ((circuit id, literals), (total, counts))
 
     # ------------------------------------------------------------------ engines
     @property
@@ -250,6 +251,32 @@ class CNFCounter:
             p = DISK.path(self.key)
             return Compiled(circ, self.key, str(p) if p else None, time.perf_counter() - t0, source)
         raise EngineFailed("the compiled d-DNNF could not be read back from the cache")
+
+    def feature_counts_if_ready(self, assumptions: Sequence[int] = ()) -> Optional[FeatureCounts]:
+        """:meth:`feature_counts` when the compiled circuit is in memory (one pass, no
+        compiling, no waiting), else None."""
+        circ = MEMORY.get(self.key) if self.d4_usable() and not self.trivially_unsat else None
+        if circ is None:
+            return None
+        return self._pass(circ, self._check_lits(assumptions))
+
+    def _pass(self, circ: Circuit, lits: list[int]) -> FeatureCounts:
+        """One pass over the circuit under ``lits``; the last answer is kept (a configurator
+        click asks the same decisions twice: what they force, then every count)."""
+        t0 = time.perf_counter()
+        memo_key = (id(circ), frozenset(lits))
+        last = self._last_pass
+        if last is not None and last[0] == memo_key:
+            total, positive = last[1]
+        else:
+            r = circ.counts(lits)
+            total, positive = r.total, r.positive[: self.n_features + 1]
+            self._last_pass = (memo_key, (total, positive))
+        return FeatureCounts(total, list(positive), "d4", time.perf_counter() - t0)
+
+    def on_disk(self) -> bool:
+        """Is the compiled d-DNNF in the disk cache (ready after a read, no d4 run)?"""
+        return DISK.has(self.key)
 
     # ------------------------------------------------------------------ in the background
     def ready(self) -> bool:
@@ -384,9 +411,10 @@ class CNFCounter:
         if self.d4_usable():
             try:
                 comp = self.circuit(self._d4_budget(timeout), cancel, progress)
-                r = comp.circuit.counts(lits)
+                r = self._pass(comp.circuit, lits)
                 self.last_engine = "d4"
-                return FeatureCounts(r.total, r.positive[: n + 1], "d4", time.perf_counter() - t0)
+                r.seconds = time.perf_counter() - t0
+                return r
             except (CountTimeout, EngineFailed) as e:
                 note = str(e)
         elif not self.determined:

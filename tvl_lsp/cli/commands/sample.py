@@ -24,7 +24,7 @@ import time
 
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(prog="tvl-lsp sample", description="Sample the products of a feature model.")
-    ap.add_argument("model", help="a .tvl model or a .dimacs CNF")
+    ap.add_argument("model", help="a .tvl or .uvl model, or a .dimacs CNF")
     how = ap.add_mutually_exclusive_group(required=True)
     how.add_argument("--t", type=int, choices=[1, 2], help="t-wise covering sample (1 or 2)")
     how.add_argument("--uniform", type=int, metavar="N", help="N products uniformly at random")
