@@ -466,3 +466,25 @@ def test_a_wide_tree_is_drawn_readable_from_its_root(page, tmp_path):
         page.goto("about:blank")
         proc.terminate()
         proc.wait(timeout=20)
+
+
+def test_a_narrow_window_stacks_the_diagram_above_the_graph(browser, ui):
+    """In a window as narrow as a VS Code panel beside the editor, the diagram and the graph each
+    take the full width, one above the other (side by side each was a sliver: the diagram drawn
+    unreadably small or cut), and no panel overlaps the next."""
+    ctx = browser.new_context(viewport={"width": 560, "height": 860})
+    try:
+        pg = ctx.new_page()
+        open_ui(pg, ui)
+        boxes = {s: pg.locator(s).bounding_box() for s in ("#diagram", "#graph", "#details", "#problems")}
+        assert boxes["#diagram"]["width"] >= 540 and boxes["#graph"]["width"] >= 540, boxes
+        assert boxes["#graph"]["y"] >= boxes["#diagram"]["y"] + boxes["#diagram"]["height"], boxes
+        assert boxes["#graph"]["height"] >= 120, boxes
+        main = pg.locator("main").bounding_box()
+        assert main["y"] + main["height"] <= boxes["#problems"]["y"] + 1, (main, boxes)
+        heights = pg.evaluate("[...document.querySelectorAll('g.feature text.name')].map(t => t.getBoundingClientRect().height)")
+        assert min(heights) >= 7, heights
+        click(pg, "Random", "include")
+        wait_counts(pg, "2")
+    finally:
+        ctx.close()
