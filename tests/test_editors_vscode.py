@@ -398,12 +398,20 @@ def test_hover_shows_the_product_count(code):
     with code.step("02-hover"):
         code.open_file(LAUNCH)
         code.goto(9, 66)   # on `Lidar` in if="$(arg Lidar)"
-        code.command("Show or Focus Hover")
         hover = code.page.locator(".monaco-hover:not(.hidden)").first
-        hover.wait_for(state="visible")
-        deadline = time.monotonic() + STEP_S
-        while "4 of 8 products" not in hover.inner_text() and time.monotonic() < deadline:
-            time.sleep(0.3)
+        # under load the first hover may say "counting… (hover again in a moment)": a hover does
+        # not update itself, so hover again, as the message asks (and as a user would)
+        deadline = time.monotonic() + 2 * STEP_S
+        while True:
+            code.command("Show or Focus Hover")
+            hover.wait_for(state="visible")
+            t = time.monotonic()
+            while "4 of 8 products" not in hover.inner_text() and "counting" not in hover.inner_text() \
+                    and time.monotonic() - t < 5:
+                time.sleep(0.3)
+            if "counting" not in hover.inner_text() or time.monotonic() > deadline:
+                break
+            time.sleep(1)
         text = hover.inner_text()
         assert "4 of 8 products" in text and "50" in text, text
         time.sleep(0.5)   # let the hover finish fading in before the step's screenshot

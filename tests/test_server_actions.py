@@ -91,6 +91,30 @@ async def test_add_all_missing_args_at_once(client: LanguageClient):
     assert "missing-arg" not in codes(diags)
 
 
+
+async def test_undeclared_arg_close_to_a_feature_is_renamed_by_a_quick_fix(client: LanguageClient):
+    """"did you mean `Random`?" comes with the quick fix that says it, for the first undeclared
+    arg of a value and for the later ones (one problem each); applied, the errors are gone."""
+    path = client.ws / "src/turtlerand/launch/generic.launch"
+    text = path.read_text().replace('  <param name="vel" type="double" value="0.5" if="$(arg Vel)"/>\n',
+                                    '  <param name="vel" type="double" value="0.5" if="$(arg Vel)"/>\n'
+                                    '  <param name="who" value="$(arg randm) $(arg  Vel) $(arg telop)" if="$(arg Vel)"/>\n')
+    assert "$(arg randm)" in text
+    uri = open_doc(client, path, text)
+    diags = await diagnostics(client, uri, lambda ds: codes(ds).count("undefined-arg") == 2)
+    undefined = sorted((d for d in diags if d.code == "undefined-arg"), key=lambda d: d.range.start.character)
+    assert "did you mean `Random`" in undefined[0].message and "did you mean `Teleop`" in undefined[1].message
+    edits = []
+    for d, name in zip(undefined, ("Random", "Teleop")):
+        fix = [a for a in _fixes(await _actions(client, uri, d)) if a.title == f"Change to `{name}`"]
+        assert fix and fix[0].is_preferred, [a.title for a in await _actions(client, uri, d)]
+        edits += fix[0].edit.changes[uri]
+    text = apply_text_edits(text, edits)
+    assert '"$(arg Random) $(arg  Vel) $(arg Teleop)"' in text
+    _change_all(client, uri, text, 2)
+    diags = await diagnostics(client, uri, lambda ds: "undefined-arg" not in codes(ds))
+    assert "undefined-arg" not in codes(diags)
+
 EXPECTED_NODES = {
     frozenset(): ["/Turtlesim"],
     frozenset({"Teleop"}): ["/Teleop", "/Turtlesim"],

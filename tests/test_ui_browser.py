@@ -418,3 +418,73 @@ def test_a_flat_model_draws_its_first_children_and_more_on_demand(page, tmp_path
         page.goto("about:blank")
         proc.terminate()
         proc.wait(timeout=20)
+
+
+def test_a_wide_tree_is_drawn_readable_from_its_root(page, tmp_path):
+    """A model as wide as the thesis's lizi (two groups, eleven leaves) in a half-screen panel:
+    fitting it whole drew the names 4 px high.  It is drawn readable (names >= 7 px) from its
+    root, whose buttons can be clicked; dragging the diagram shows the rest."""
+    ws = tmp_path / "ws" / "src" / "wide" / "launch"
+    ws.mkdir(parents=True)
+    left = [f"Sensor{i}" for i in range(4)]
+    right = [f"Planner{i}" for i in range(7)]
+    (ws / "wide.tvl").write_text(
+        "root Wide {\n  group allOf { opt Hw, opt Navigation, opt Speech, opt State, opt Sim }\n}\n"
+        "Hw { group someOf { " + ", ".join(left) + " } }\n"
+        "Navigation { group someOf { " + ", ".join(right) + " } }\n")
+    (tmp_path / "ws" / ".catkin_workspace").write_text("")
+    env = dict(os.environ, TVL_LSP_CACHE_DIR=str(tmp_path / "cache"))
+    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(tmp_path / "ws"), "--no-browser"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        page.goto(proc.stdout.readline().strip())
+        page.wait_for_selector("body[data-ready=diagram]", timeout=30000)
+        page.wait_for_selector("#remaining:not([data-remaining=''])", timeout=60000)
+        assert page.locator("g.feature").count() == 1 + 5 + 11
+        heights = page.evaluate("""() => [...document.querySelectorAll('g.feature text.name')]
+            .map(t => t.getBoundingClientRect().height)""")
+        assert min(heights) >= 7, heights
+        visible = """n => { const g = document.querySelector(`g.feature[data-feature='${n}']`);
+            const r = g.querySelector('.btn-include').getBoundingClientRect();
+            const hit = document.elementFromPoint(r.x + r.width / 2, r.y + r.height / 2);
+            return !!hit && g.contains(hit); }"""
+        assert page.evaluate(visible, "Wide")
+        click(page, "Navigation", "include") if page.evaluate(visible, "Navigation") else click(page, "Wide", "include")
+        page.wait_for_selector("g.feature[data-status^='user-']", timeout=15000)
+        # the leaves off the panel's edge are reached by dragging the diagram
+        hidden = [n for n in left + right if not page.evaluate(visible, n)]
+        assert hidden
+        box = page.locator("svg.diagram").first.bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] - 40
+        page.mouse.move(x, y)
+        page.mouse.down()
+        page.mouse.move(x + (300 if hidden[0] in left else -300), y, steps=8)
+        page.mouse.up()
+        page.wait_for_timeout(200)
+        assert [n for n in hidden if page.evaluate(visible, n)], hidden
+    finally:
+        page.goto("about:blank")
+        proc.terminate()
+        proc.wait(timeout=20)
+
+
+def test_a_narrow_window_stacks_the_diagram_above_the_graph(browser, ui):
+    """In a window as narrow as a VS Code panel beside the editor, the diagram and the graph each
+    take the full width, one above the other (side by side each was a sliver: the diagram drawn
+    unreadably small or cut), and no panel overlaps the next."""
+    ctx = browser.new_context(viewport={"width": 560, "height": 860})
+    try:
+        pg = ctx.new_page()
+        open_ui(pg, ui)
+        boxes = {s: pg.locator(s).bounding_box() for s in ("#diagram", "#graph", "#details", "#problems")}
+        assert boxes["#diagram"]["width"] >= 540 and boxes["#graph"]["width"] >= 540, boxes
+        assert boxes["#graph"]["y"] >= boxes["#diagram"]["y"] + boxes["#diagram"]["height"], boxes
+        assert boxes["#graph"]["height"] >= 120, boxes
+        main = pg.locator("main").bounding_box()
+        assert main["y"] + main["height"] <= boxes["#problems"]["y"] + 1, (main, boxes)
+        heights = pg.evaluate("[...document.querySelectorAll('g.feature text.name')].map(t => t.getBoundingClientRect().height)")
+        assert min(heights) >= 7, heights
+        click(pg, "Random", "include")
+        wait_counts(pg, "2")
+    finally:
+        ctx.close()

@@ -184,10 +184,17 @@ def test_cli_prints_the_url_first_and_stops_cleanly(ws, sig):
         assert parts.scheme == "http" and parts.hostname == "127.0.0.1" and parts.query.startswith("token=")
         st, _, _ = raw(parts.port, "GET", f"/?{parts.query}", {"Host": parts.netloc})
         assert st == 200
+        # the problems are checked in a worker process: it is running when the signal comes
+        token = parts.query.split("=", 1)[1]
+        st, _, _ = raw(parts.port, "POST", "/api/problems", {"Host": parts.netloc, "X-TVL-Token": token,
+                                                             "Content-Type": "application/json"}, {})
+        assert st == 200
         proc.send_signal(sig)
         rc = proc.wait(timeout=20)
-        assert rc == 0, proc.stderr.read()
-        assert "stopped" in proc.stderr.read()
+        err = proc.stderr.read()
+        assert rc == 0, err
+        # one line, as a user reads it after Ctrl-C: no warning of leaked semaphores, no traceback
+        assert err == "tvl-lsp ui: stopped\n", err
         with pytest.raises(OSError):
             raw(parts.port, "GET", f"/?{parts.query}", {"Host": parts.netloc})
     finally:

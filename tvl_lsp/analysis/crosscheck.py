@@ -86,6 +86,26 @@ def _selected(w: dict[str, bool]) -> str:
     return "{" + ", ".join(on) + "}" if on else "{} (nothing selected)"
 
 
+def _rename_arg_fixes(launch, path: str, span: Span, name: str, sug: Optional[str]) -> list[Fix]:
+    """The quick fix of an undeclared ``$(arg name)`` whose name is close to a declared arg or
+    a feature (the "did you mean" of the message): rename it in that substitution."""
+    if not sug:
+        return []
+    for e in launch.elements:
+        if e.path != path:
+            continue
+        for s in e.substitutions:
+            if s.span != span or s.kind not in ("arg", "var") or s.args[:1] != (name,):
+                continue
+            head = f"$({s.kind} "
+            if span.start.line != span.end.line or span.end.col - span.start.col != len(head) + len(name) + 1:
+                return []   # spaces or a line break inside: leave it to the user
+            col = span.start.col + len(head)
+            return [Fix(f"Change to `{sug}`", (TextEdit(path, Span.of(span.start.line, col, span.start.line,
+                                                                      col + len(name)), sug),), preferred=True)]
+    return []
+
+
 def _closest(name: str, candidates: list[str]) -> Optional[str]:
     if not candidates:
         return None
@@ -401,7 +421,8 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
                         first_msg + (f"; did you mean `{sug2}`?" if sug2 else "") + _when(fact.condition, w),
                         related=[Related(fact.path, fact.span, stops)],
                         witness=w, data={"condition": str(fact.condition), "arg": other, "stops_at": name,
-                                         **({"suggestion": sug2} if sug2 else {})}))
+                                         **({"suggestion": sug2} if sug2 else {})},
+                        fixes=_rename_arg_fixes(launch, fact.path, other_span, other, sug2)))
         path, span = fact.path, fact.span
         if path != launch.path:
             # an error inside an included file, for the args this file passes: reported on the
@@ -419,8 +440,10 @@ def _facts(launch, logic: PairLogic, model_name: Optional[str]) -> list[Diagnost
             if path == fact.path:
                 out.append(Diagnostic(fact.code, sev, path, span, msg, related=related))
             continue
+        fixes = (_rename_arg_fixes(launch, path, span, data["arg"], data.get("suggestion"))
+                 if fact.code == "undefined-arg" and "arg" in data and path == fact.path else [])
         out.append(Diagnostic(fact.code, sev, path, span,
-                              msg + _when(fact.condition, w), related=related, witness=w, data=data))
+                              msg + _when(fact.condition, w), related=related, witness=w, data=data, fixes=fixes))
     return out
 
 

@@ -74,5 +74,12 @@ def main(argv: list[str]) -> int:
     sys.stdout.flush()
     sys.stderr.flush()
     # nothing is left to save; do not wait for a background session build or a graph layout
-    # still running in a thread
+    # still running in a thread.  os._exit skips the finalizers that unregister the checking
+    # pool's semaphores: run them first, or the resource tracker warns of "leaked semaphore
+    # objects" after every Ctrl-C
+    try:
+        from multiprocessing import util as mp_util
+        mp_util._run_finalizers(0)
+    except Exception:
+        pass
     os._exit(0)

@@ -18,6 +18,8 @@ const SVGNS = 'http://www.w3.org/2000/svg';
 // children drawn under an expanded feature before "••• N more" (a flat model of 2,500 features
 // under its root stays fast to draw and to click); each click on it draws MORE_KIDS more
 const MAX_KIDS = 40;
+/** The smallest scale the diagram is fitted at: feature names stay about 8 px high or more. */
+const MIN_FIT_SCALE = 0.65;
 const MORE_KIDS = 100;
 
 interface ViewNode {
@@ -224,8 +226,12 @@ export class Diagram {
     const maxX = Math.max(...xs) + W / 2 + 10;
     const minY = Math.min(...ys) - H / 2 - 20;
     const maxY = Math.max(...ys) + H / 2 + 24;
-    const k = Math.max(0.35, Math.min(1.2, box.width / (maxX - minX), box.height / (maxY - minY)));
-    const tx = box.width / 2 - k * (minX + maxX) / 2;
+    // never smaller than readable: a tree wider than the panel is shown from its root, and the
+    // user drags to see the rest (fitting 11 leaves into a half-screen panel drew 4 px text)
+    const k = Math.max(MIN_FIT_SCALE, Math.min(1.2, box.width / (maxX - minX), box.height / (maxY - minY)));
+    const rootX = nodes.length ? nodes[0].x : 0;
+    const tx = k * (maxX - minX) <= box.width ? box.width / 2 - k * (minX + maxX) / 2
+      : Math.min(-k * minX, Math.max(box.width - k * maxX, box.width / 2 - k * rootX));
     const ty = 16 - k * minY;
     this.svg.call(this.zoom.transform, zoomIdentity.translate(tx, ty).scale(k));
     this.fitted = true;
