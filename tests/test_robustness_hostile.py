@@ -132,17 +132,17 @@ def test_a_megabyte_of_malformed_tags_is_checked_quickly_with_few_lines(ws):
     f.write_text("<launch>" + '<node pkg="a" type="b" name="x" <<' * 30_000 + "</launch>")
     assert f.stat().st_size > 1_000_000
     rc, diags, _ = check(f)
-    assert rc == 1 and len(diags) <= 2 * MAX_SAME_CODE + 5
+    assert rc == 1 and len(diags) <= 10
     assert "xml-syntax" in codes(diags)
 
 
 def test_repeated_diagnostics_are_collapsed(ws):
     f = ws / "src" / "hostile" / "launch" / "dups.launch"
-    f.write_text("<launch>\n" + '  <node pkg="a" type="b" name="x"/>\n' * 300 + "</launch>\n")
+    f.write_text("<launch>\n" + '  <node pkg="a" type="b" name="x"/>\n' * (MAX_SAME_CODE + 300) + "</launch>\n")
     rc, diags, _ = check(f)
     dup = [d for d in diags if d["code"] == "duplicate-node"]
     assert len(dup) == MAX_SAME_CODE + 1
-    assert "and 249 more [duplicate-node]" in dup[-1]["message"]
+    assert "and 299 more [duplicate-node]" in dup[-1]["message"]
 
 
 # ---------------------------------------------------------------- the pieces, in-process

@@ -310,12 +310,12 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
     return out
 
 
-MAX_SAME_CODE = 50  # diagnostics of one code shown per file; the rest are summed up in one
+MAX_SAME_CODE = 1000  # diagnostics of one code shown per file; the rest are summed up in one
 
 
 def _dedupe_sort(diags: Iterable[Diagnostic]) -> list[Diagnostic]:
     """Sorted, without duplicates, and at most ``MAX_SAME_CODE`` diagnostics of one code per
-    file: a file of 30,000 malformed or repeated tags gets 50 of them and one more that says
+    file: a file of 30,000 malformed or repeated tags gets 1,000 of them and one more that says
     how many were left out (on the first one left out), not 30,000 lines."""
     seen = set()
     out = []

@@ -10,7 +10,7 @@ from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
 from ...base.diagnostics import Diagnostic
 from ..model import Element, NodeFact, RemapCase
 from ..xml import XElement
-MAX_RELATED = 5  # related locations listed for a duplicate node
+MAX_RELATED = 64  # related locations listed for a duplicate node
 
 from .rules import (Cases, DUPLICATE_NODE, EMPTY_NS, ENV_INVALID, ILLEGAL_NAME, INVALID_VALUE,
                     LAUNCH_CHILD_TAGS, LAUNCH_IF_UNLESS, MACHINE_INVALID, MISSING_ATTRIBUTE, NODE_NAME_NS,
@@ -274,10 +274,10 @@ class TagRules:
                 if others:
                     # one fact per node (not one per pair: linear in the number of nodes), the
                     # first few others as related locations
-                    any_other = self.node_name_any.get(full)
-                    if any_other is None:
-                        any_other = disj([o.condition for o in others])
-                    both = conj([any_other, c])
+                    if len(others) <= MAX_RELATED:  # pair by pair (the simplest printed condition)
+                        both = disj([conj([o.condition, c]) for o in others])
+                    else:  # many nodes of one name: one formula per node, not one per pair
+                        both = conj([self.node_name_any[full], c])
                     self.fact(DUPLICATE_NODE, f"roslaunch file contains multiple nodes named [{shown(full)}]. Please "
                               "check all <node> 'name' attributes to make sure they are unique.", el,
                               self.aspan(el, "name"), both,
