@@ -117,3 +117,16 @@ def test_time_budget_zero_still_reports_anomalies_without_explanations():
     diags = a.anomalies(time_budget=0)
     dead = by_code(diags, "dead-feature")
     assert len(dead) == 1 and "time budget" in dead[0].message
+
+
+def test_the_search_for_dead_features_stops_at_its_budget_and_says_so(monkeypatch):
+    """Issue 12: a model whose backbone search outlasts the budget gets one anomaly-budget note
+    and no unproved dead feature, instead of overrunning the budget."""
+    from tvl_lsp.analysis import engine
+    text = "root R { group allOf { opt A, opt B, opt C } A -> B; A -> !B; }"
+    full = analysis(text).anomalies(time_budget=10)
+    assert [d.code for d in full if d.code == "dead-feature"] == ["dead-feature"]
+    monkeypatch.setattr(engine, "MIN_DETECTION", 0.0)
+    cut = analysis(text).anomalies(time_budget=0)
+    assert [d.code for d in cut] == ["anomaly-budget"]
+    assert "none are reported" in cut[0].message and cut[0].severity.name == "INFORMATION"

@@ -473,8 +473,16 @@ class Encoding(DistributeMixin):
                 ov = self.var_of_feature.get(f)
                 feats = {abs(x) for c in side for x in c if abs(x) <= self.n_features}
                 if feats <= {ov}:
-                    with Solver(name="minisat22", bootstrap_with=side) as sv:
-                        if all(sv.solve(assumptions=[x]) for x in ([ov, -ov] if ov in feats else [])) and sv.solve():
+                    # the side encoding's variables renumbered from 1: the solver allocates
+                    # per variable index, and the indices here run up to the whole model's
+                    # (one solver per attribute over them was quadratic on big models)
+                    ren: dict[int, int] = {}
+                    compact = [[(ren.setdefault(abs(x), len(ren) + 1)) * (1 if x > 0 else -1) for x in c]
+                               for c in side]
+                    cov = ren.get(ov) if ov is not None else None
+                    with Solver(name="minisat22", bootstrap_with=compact) as sv:
+                        if all(sv.solve(assumptions=[x]) for x in ([cov, -cov] if cov is not None else [])) \
+                                and sv.solve():
                             continue
                 try:
                     self._attr_term(a, f)

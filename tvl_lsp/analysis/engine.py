@@ -37,6 +37,9 @@ VOID_MODEL = register("void-model", Severity.ERROR,
                       "the feature model has no product: no selection of features satisfies it", "analysis")
 DEAD_FEATURE = register("dead-feature", Severity.WARNING,
                         "a feature that no product can select", "analysis")
+MIN_DETECTION = 2.0  # seconds the search for dead / false-optional features gets at least
+ANOMALY_BUDGET = register("anomaly-budget", Severity.INFORMATION,
+                          "the search for dead and false-optional features ran out of its time budget", "analysis")
 FALSE_OPTIONAL = register("false-optional", Severity.WARNING,
                           "an optional feature that is selected in every product that selects its parent",
                           "analysis")
@@ -203,7 +206,21 @@ class ModelAnalysis:
                                       related=related(ex)))
             return out
         v = enc.var_of_feature
-        for f in an.dead():
+        # the budget is the explanations'; finding the anomalies gets at least MIN_DETECTION s
+        # (milliseconds on ordinary models), then stops and says so rather than overrun
+        detect_by = None if time_budget is None else start + max(time_budget, MIN_DETECTION)
+        bb = an.backbone(detect_by)
+        fo = (an.false_optional(detect_by) if self.model.format != "dimacs" else []) if bb is not None else None
+        if bb is None or fo is None:
+            from ..base.text import ZERO_SPAN
+            out.append(Diagnostic(
+                ANOMALY_BUDGET, Severity.INFORMATION, root.path if root else self.model.path,
+                root.name_span if root else ZERO_SPAN,
+                f"The search for {'dead and ' if bb is None else ''}false-optional features ran out of its "
+                f"time budget ({max(time_budget, MIN_DETECTION):g} s) on this model of {enc.n_features:,} features: "
+                f"{'none are' if bb is None else 'false-optional features are not'} reported "
+                "(the editor's count.timeBudget setting raises the budget)"))
+        for f in (an.dead() if bb is not None else []):
             ex = explain([v[f]])
             if ex is not None and any(_reported(e) for e in ex.elements):
                 continue  # caused by a value the front end reported as an error
@@ -211,7 +228,7 @@ class ModelAnalysis:
                                   f"Feature {self.name(f)} is dead: no product can select it." + because(ex),
                                   related=related(ex), data={"feature": self.name(f)}))
         # a DIMACS model has no hierarchy: "optional" means nothing there
-        for f, p in (an.false_optional() if self.model.format != "dimacs" else []):
+        for f, p in (fo or []):
             ex = explain([v[p], -v[f]])
             out.append(Diagnostic(FALSE_OPTIONAL, Severity.WARNING, f.path, f.name_span,
                                   f"Feature {self.name(f)} is declared optional but every product that "

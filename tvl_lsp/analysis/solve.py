@@ -54,14 +54,18 @@ class Anomalies:
     always_false: list[Element] = field(default_factory=list)
 
 
-def backbone_of(s: Solver, cand: dict[int, bool], assumptions: list[int], record=None) -> dict[int, bool]:
+def backbone_of(s: Solver, cand: dict[int, bool], assumptions: list[int], record=None,
+                deadline: Optional[float] = None) -> Optional[dict[int, bool]]:
     """The candidates (var -> value seen in a solution) whose value is forced under the
     assumptions.  Asks whether *some* candidate can flip (one clause over all of them, behind
     a fresh activation literal): UNSAT proves every remaining candidate at once, SAT removes
-    every candidate the new solution flips.  The solver's phases are pushed towards flipping."""
+    every candidate the new solution flips.  The solver's phases are pushed towards flipping.
+    None when ``deadline`` (``time.monotonic()``) passes first: nothing is proved then."""
     cand = dict(cand)
     top = max([s.nof_vars()] + [abs(x) for x in assumptions]) if cand else 0
     while cand:
+        if deadline is not None and time.monotonic() > deadline:
+            return None
         top += 1
         act = top
         s.add_clause([-act] + [(-v if val else v) for v, val in cand.items()])
@@ -128,13 +132,16 @@ class Analyzer:
         except Exception:
             pass
 
-    def _record(self, model: list[int]) -> None:
+    def _record(self, model: list[int], seen: bool = True) -> None:
+        """Note what a solution shows: the values it gives the features (``seen``: only the
+        backbone's candidates need them, before it starts) and the optional pairs it witnesses."""
         n = self.enc.n_features
-        for x in model[:n]:
-            if x > 0:
-                self._seen_true.add(x)
-            else:
-                self._seen_false.add(-x)
+        if seen:
+            for x in model[:n]:
+                if x > 0:
+                    self._seen_true.add(x)
+                else:
+                    self._seen_false.add(-x)
         # model-based filter for false-optional: this product shows "parent without child"
         if self._pending is None:
             self._pending = [(pv, fv) for pv, fv, _, _ in self._optional_pairs()]
@@ -157,8 +164,9 @@ class Analyzer:
                 self._record(m)
         return self._void
 
-    def backbone(self, deadline: Optional[float] = None) -> dict[int, bool]:
-        """Feature variable -> forced value, for every feature with one value in all products."""
+    def backbone(self, deadline: Optional[float] = None) -> Optional[dict[int, bool]]:
+        """Feature variable -> forced value, for every feature with one value in all products;
+        None when ``deadline`` passes first (asked again, it starts again)."""
         if self._backbone is not None:
             return self._backbone
         if self.is_void():
@@ -171,7 +179,9 @@ class Analyzer:
             t, f = v in self._seen_true, v in self._seen_false
             if t != f:
                 cand[v] = t
-        bb = backbone_of(s, cand, [], self._record)
+        bb = backbone_of(s, cand, [], lambda m: self._record(m, seen=False), deadline)
+        if bb is None:
+            return None
         for v, val in bb.items():
             s.add_clause([v if val else -v])
         self._backbone = bb
@@ -196,12 +206,14 @@ class Analyzer:
             self._opt_pairs = out
         return self._opt_pairs
 
-    def false_optional(self) -> list[tuple[M.Feature, M.Feature]]:
+    def false_optional(self, deadline: Optional[float] = None) -> Optional[list[tuple[M.Feature, M.Feature]]]:
         """(feature, parent): optional in the parent's group, not dead, yet selected in every
-        product that selects the parent."""
+        product that selects the parent; None when ``deadline`` passes first."""
         if self.is_void():
             return []
-        bb = self.backbone()
+        bb = self.backbone(deadline)
+        if bb is None:
+            return None
         out = []
         todo = []
         for pv, fv, f, p in self._optional_pairs():
@@ -224,6 +236,8 @@ class Analyzer:
                 s.add_clause([-top, -fv])
             left = list(todo)
             while left:
+                if deadline is not None and time.monotonic() > deadline:
+                    return None
                 top += 1
                 act = top
                 s.add_clause([-act] + [d_of[(pv, fv)] for pv, fv, _, _ in left])
@@ -233,7 +247,7 @@ class Analyzer:
                 s.add_clause([-act])
                 if not ok:
                     break
-                self._record(m)
+                self._record(m, seen=False)
                 left = [x for x in left if not (m[x[0] - 1] > 0 and m[x[1] - 1] < 0)]
             out.extend((f, p) for _, _, f, p in left)
         key = {(id(f), id(p)): i for i, (_, _, f, p) in enumerate(self._optional_pairs())}
