@@ -171,11 +171,17 @@ def model_workspace(path: str, max_up: int = 12) -> str:
         if parent == cur:
             break
         cur = parent
-    parts = d.split(os.sep)
+    return src_parent(d)
+
+
+def src_parent(folder: str) -> str:
+    """The parent of the innermost ``src`` folder above ``folder`` (a catkin / colcon
+    workspace's root), else ``folder`` itself."""
+    parts = folder.split(os.sep)
     if "src" in parts:
         i = len(parts) - 1 - parts[::-1].index("src")
         return os.sep.join(parts[:i]) or os.sep
-    return d
+    return folder
 
 
 def read_head_text(path: str, n: int) -> Optional[str]:

@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Iterable, Optional
 
 from ..base.diagnostics import Diagnostic, Severity, register
-from ..base.files import read_bytes, read_head, read_text_or_none, unreadable_reason
+from ..base.files import read_bytes, read_head, read_text_or_none, src_parent, unreadable_reason
 from ..base.text import LineIndex, Pos, Span
 from ..graph.hints import ProjectHints, parse_hints
 from ..launch.dialects import LAUNCH_SUFFIXES as _LAUNCH_SUFFIXES
@@ -255,11 +255,7 @@ def find_workspace_root(path: str, max_up: int = 12) -> str:
         if parent == cur:
             break
         cur = parent
-    parts = d.split(os.sep)
-    if "src" in parts:
-        i = len(parts) - 1 - parts[::-1].index("src")
-        return os.sep.join(parts[:i]) or os.sep
-    return d
+    return src_parent(d)
 
 
 def _looks_like_project(path: str) -> bool:
