@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import os
 import stat
-from typing import Iterable, Optional
+from typing import Callable, Iterable, Optional
 
 MAX_BYTES = 25 * 1024 * 1024  # the largest text file tvl-lsp reads (a 400,000-line model is ~10 MB)
 
@@ -150,7 +150,7 @@ def inside(path: str, folders: Iterable[str]) -> bool:
     return False
 
 
-_ROOT_MARKERS = (".git", ".catkin_workspace", ".catkin_tools", ".tvl-lsp")
+ROOT_MARKERS = (".catkin_workspace", ".catkin_tools", ".git", ".tvl-lsp")
 
 
 def model_workspace(path: str, max_up: int = 12) -> str:
@@ -158,20 +158,26 @@ def model_workspace(path: str, max_up: int = 12) -> str:
     model holding a workspace marker (``.git``, ``.catkin_workspace``, ``.catkin_tools``,
     ``.tvl-lsp``), else the parent of the innermost ``src`` folder above it, else the model's
     own folder.  Includes outside it are refused (never read, never quoted in a diagnostic)."""
-    d = os.path.dirname(os.path.abspath(path))
-    cur = d
+    return find_root(os.path.dirname(os.path.abspath(path)), lambda cur, names: False, max_up)
+
+
+def find_root(folder: str, is_root: Callable[[str, list[str]], bool], max_up: int = 12) -> str:
+    """The nearest ancestor of ``folder`` (itself included, at most ``max_up`` levels) that holds
+    a workspace marker (``ROOT_MARKERS``) or for which ``is_root(path, its file names)`` holds;
+    else :func:`src_parent` of ``folder``."""
+    cur = folder
     for _ in range(max_up):
         try:
-            names = set(os.listdir(cur))
+            names = os.listdir(cur)
         except OSError:
-            names = set()
-        if names & set(_ROOT_MARKERS):
+            names = []
+        if any(m in names for m in ROOT_MARKERS) or is_root(cur, names):
             return cur
         parent = os.path.dirname(cur)
         if parent == cur:
             break
         cur = parent
-    return src_parent(d)
+    return src_parent(folder)
 
 
 def src_parent(folder: str) -> str:

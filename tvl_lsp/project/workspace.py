@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Iterable, Optional
 
 from ..base.diagnostics import Diagnostic, Severity, register
-from ..base.files import read_bytes, read_head, read_text_or_none, src_parent, unreadable_reason
+from ..base.files import find_root, read_bytes, read_head, read_text_or_none, unreadable_reason
 from ..base.text import LineIndex, Pos, Span
 from ..graph.hints import ProjectHints, parse_hints
 from ..launch.dialects import LAUNCH_SUFFIXES as _LAUNCH_SUFFIXES
@@ -228,9 +228,6 @@ def discover_files(paths: Iterable[str]) -> Files:
     return out.dedupe()
 
 
-_ROOT_MARKERS = (".catkin_workspace", ".catkin_tools", ".git", ".tvl-lsp")
-
-
 def find_workspace_root(path: str, max_up: int = 12) -> str:
     """The folder to look for packages and project files in when only ``path`` is given.
 
@@ -240,22 +237,8 @@ def find_workspace_root(path: str, max_up: int = 12) -> str:
     """
     p = norm(path)
     d = p if os.path.isdir(p) else os.path.dirname(p)
-    cur = d
-    for _ in range(max_up):
-        try:
-            names = os.listdir(cur)
-        except OSError:
-            names = []
-        if any(m in names for m in _ROOT_MARKERS):
-            return cur
-        for n in names:
-            if n.endswith(YAML_SUFFIXES) and _looks_like_project(os.path.join(cur, n)):
-                return cur
-        parent = os.path.dirname(cur)
-        if parent == cur:
-            break
-        cur = parent
-    return src_parent(d)
+    return find_root(d, lambda cur, names: any(n.endswith(YAML_SUFFIXES) and _looks_like_project(os.path.join(cur, n))
+                                               for n in names), max_up)
 
 
 def _looks_like_project(path: str) -> bool:
