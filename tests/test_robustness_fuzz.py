@@ -114,20 +114,20 @@ CASES = [("tvl", "src/scout/launch/generic.tvl"),
          ("yaml", "src/scout/launch/rosparam.launch")]
 
 
-@pytest.mark.parametrize("kind,rel", CASES)
-def test_fuzz_check_pipeline(ws, kind, rel):
-    @_campaign(False)
+def _fuzz(ws: Path, kind: str, rel: str, long: bool) -> None:
+    @_campaign(long)
     @given(mutated(kind))
     def run(text):
         _check(ws, rel, text)
     run()
+
+
+@pytest.mark.parametrize("kind,rel", CASES)
+def test_fuzz_check_pipeline(ws, kind, rel):
+    _fuzz(ws, kind, rel, long=False)
 
 
 @pytest.mark.fuzz
 @pytest.mark.parametrize("kind,rel", CASES)
 def test_fuzz_check_pipeline_long(ws, kind, rel):
-    @_campaign(True)
-    @given(mutated(kind))
-    def run(text):
-        _check(ws, rel, text)
-    run()
+    _fuzz(ws, kind, rel, long=True)

@@ -57,11 +57,12 @@ def _mb(n: int) -> str:
     return f"{n / (1024 * 1024):.0f} MB" if n >= 1024 * 1024 else f"{n:,} bytes"
 
 
-def _check(path: str, st: os.stat_result, cap: int) -> None:
+def _check(path: str, st: os.stat_result, cap: Optional[int]) -> None:
+    """Refuse what is not a regular file, and (``cap`` not None) a file larger than ``cap``."""
     kind = _kind(st.st_mode)
     if kind is not None:
         raise Unreadable(path, f"it is {kind}, not a regular file; only regular files are read")
-    if st.st_size > cap:
+    if cap is not None and st.st_size > cap:
         raise Unreadable(path, f"it is {_mb(st.st_size)}; files larger than {_mb(cap)} are not read")
 
 
@@ -70,10 +71,11 @@ def read_bytes(path: str, cap: int = MAX_BYTES, *, head: bool = False) -> bytes:
 
     Raises :class:`Unreadable` for what is not a regular file or (unless ``head``) is larger
     than ``cap``, and ``OSError`` when the file cannot be opened."""
-    _check(path, os.stat(path), cap if not head else float("inf"))  # type: ignore[arg-type]
+    size_cap = None if head else cap
+    _check(path, os.stat(path), size_cap)
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
     try:
-        _check(path, os.fstat(fd), cap if not head else float("inf"))  # type: ignore[arg-type]
+        _check(path, os.fstat(fd), size_cap)
         chunks: list[bytes] = []
         left = cap if head else cap + 1
         while left > 0:
