@@ -155,7 +155,9 @@ class TvlLanguageServer(DocumentStore, Scheduler, Workers, LanguageServer):
 
 
 def create_server() -> TvlLanguageServer:
+    from ..configurator.preload import import_core
     from .features import register_all
+    import_core()  # before any check thread exists: concurrent first imports are not safe
     server = TvlLanguageServer()
     register_all(server)
     return server

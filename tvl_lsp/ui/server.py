@@ -319,6 +319,8 @@ def make_server(path: str, port: int = 0, folder: Optional[str] = None, token: O
                 verbose: bool = False, limit: int = 100,
                 project_files: Optional[list[str]] = None) -> tuple[UiServer, str]:
     """The server (not yet serving) and its URL (with the token)."""
+    from ..configurator.preload import import_core
+    import_core()  # before the warm-up and request threads: concurrent first imports are not safe
     app = App(path, folder, limit, project_files)
     token = token or secrets.token_urlsafe(24)
     handler = type("BoundHandler", (Handler,), {"app": app, "token": token, "verbose": verbose})
