@@ -76,6 +76,8 @@ def test_random_cnf_with_partial_names(seed):
     n = rng.randint(1, 9)
     clauses = [[rng.choice([-1, 1]) * rng.randint(1, n) for _ in range(rng.randint(1, 3))]
                for _ in range(rng.randint(0, 12))]
+    if seed % 7 == 6:
+        clauses.append([])  # an empty clause: no product
     lines = [f"c {i} v{i}" for i in range(1, n + 1) if rng.random() < 0.6]
     lines.append(f"p cnf {n} {len(clauses)}")
     lines += [" ".join(map(str, c)) + " 0" for c in clauses]

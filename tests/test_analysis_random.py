@@ -65,6 +65,13 @@ def random_model(rng: random.Random, n: int) -> M.Model:
         e = M.Binary(op, name(a), name(b))
         if rng.random() < 0.3:
             e = M.Unary("!", e)
+        if rng.random() < 0.25 and len(feats) >= 4:
+            # an OR of ANDs too big to distribute: Tseitin variables (hard clauses) shared with
+            # the other constraints, which explanations must take along (solve.Analyzer._hard_cone)
+            terms = [M.Binary("&&", name(x), name(y)) for x, y in (rng.sample(feats, 2) for _ in range(5))]
+            e = terms[0]
+            for t in terms[1:]:
+                e = M.Binary("||", e, t)
         owner = rng.choice(feats)
         owner.constraints.append(M.Constraint(e, rng.choice(["plain", "plain", "ifIn", "ifOut"]), owner,
                                               ZERO_SPAN, "r.tvl"))

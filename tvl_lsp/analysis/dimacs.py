@@ -175,7 +175,7 @@ def dimacs_to_model(text: str, path: str = "model.dimacs", errors: Optional[list
     for c, ln in zip(clauses, lines_of):
         span = Span(Pos(ln, 0), Pos(ln, line_lens[ln] if ln < len(line_lens) else 0))
         items = [lit(x) for x in c]
-        root.constraints.append(M.Constraint(_or_tree(items, span, path), "plain", root, span, path))
+        root.constraints.append(M.Constraint(_or_tree(items, span, path), "plain", root, span, path, clause=c))
     # feature name spans: the ``c i name`` comment line when there is one
     for ln, line in enumerate(text.splitlines()):
         if line.startswith("c "):

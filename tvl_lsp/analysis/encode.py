@@ -215,6 +215,18 @@ def source_text(model: M.Model, path: str, span: Span, limit: int = 80,
     return s if len(s) <= limit else s[: limit - 1] + "…"
 
 
+def _line_text(model: M.Model, c: M.Constraint, cache: dict, limit: int = 80) -> str:
+    """:func:`source_text` of a constraint that is one whole line (a DIMACS clause), by line."""
+    lines = cache.get(("lines", c.path))
+    if lines is None:
+        lines = cache[("lines", c.path)] = (model.sources.get(c.path) or "").splitlines()
+    ln = c.span.start.line
+    s = " ".join(lines[ln].split()) if 0 <= ln < len(lines) and c.span.start.col == 0 else ""
+    if not s:
+        return source_text(model, c.path, c.span, limit, cache)
+    return s if len(s) <= limit else s[: limit - 1] + "…"
+
+
 _LOGIC_OPS = {"&&", "||", "->", "<-", "<->", "requires", "excludes"}
 _CMP_OPS = {"==", "!=", "<", "<=", ">", ">="}
 # the thesis writes infix and/or; the parser reports them and keeps the words
@@ -427,13 +439,19 @@ class Encoding(DistributeMixin):
                     prefix = [v[f]]
                 else:
                     prefix = []
-                try:
-                    clauses: list[list[int]] = []
-                    self._assert(c.expr, prefix, True, clauses, f)
-                except NotEncodable as ex:
-                    self.not_encoded.append((c, "constraint", c.path, c.span, str(ex)))
-                    continue
-                text = source_text(self.model, c.path, c.span, cache=self._line_indexes) or "constraint"
+                if c.clause is not None and not prefix:  # a DIMACS clause: its literals as they are
+                    feats = self.model.features
+                    cl = _clean([v[feats[x]] if x > 0 else -v[feats[-x]] for x in c.clause])
+                    clauses = [] if cl is None else [cl]
+                    text = _line_text(self.model, c, self._line_indexes) or "constraint"
+                else:
+                    try:
+                        clauses = []
+                        self._assert(c.expr, prefix, True, clauses, f)
+                    except NotEncodable as ex:
+                        self.not_encoded.append((c, "constraint", c.path, c.span, str(ex)))
+                        continue
+                    text = source_text(self.model, c.path, c.span, cache=self._line_indexes) or "constraint"
                 neg = None
                 if len(clauses) == 1:
                     neg = [-x for x in clauses[0]]

@@ -97,6 +97,8 @@ class Analyzer:
         self._opt_pairs: Optional[list] = None
         self._witnessed: set[tuple[int, int]] = set()
         self._pending: Optional[list[tuple[int, int]]] = None
+        self._hard_index: Optional[dict[int, list[int]]] = None
+        self._hard_always: list[int] = []
 
     # ------------------------------------------------------------------ solvers
     @property
@@ -310,7 +312,9 @@ class Analyzer:
 
         small = Solver(name=SOLVER)
         try:
-            for c in list(self.enc.hard) + list(side_clauses):
+            side_clauses = list(side_clauses)
+            seeds = [c for x in core for c in self._sel_of[x].clauses] + side_clauses + [[x] for x in extra]
+            for c in self._hard_cone(seeds) + side_clauses:
                 small.add_clause([r(x) for x in c])
             for x in core:
                 for c in self._sel_of[x].clauses:
@@ -336,6 +340,37 @@ class Analyzer:
         finally:
             small.delete()
         return Explanation([self._sel_of[x] for x in core], minimal)
+
+    def _hard_cone(self, seeds: list[list[int]]) -> list[list[int]]:
+        """The hard clauses the ``seeds`` clauses depend on: those reachable from the seeds'
+        auxiliary (non-feature) variables through hard clauses that share one.  Every other hard
+        clause is a Tseitin definition of (or a one-hot domain over) variables nothing here
+        mentions, satisfiable whatever the rest is: leaving them out keeps every query's answer
+        and makes each explanation cost its own size, not the model's (Linux: 8,000 hard
+        clauses copied per dead feature before)."""
+        nf = self.enc.n_features
+        index = self._hard_index
+        if index is None:
+            index = self._hard_index = {}
+            for i, c in enumerate(self.enc.hard):
+                for x in c:
+                    if abs(x) > nf:
+                        index.setdefault(abs(x), []).append(i)
+            self._hard_always = [i for i, c in enumerate(self.enc.hard) if all(abs(x) <= nf for x in c)]
+        hard = self.enc.hard
+        taken: set[int] = set(self._hard_always)
+        seen: set[int] = set()
+        todo = [abs(x) for c in seeds for x in c if abs(x) > nf]
+        while todo:
+            v = todo.pop()
+            if v in seen:
+                continue
+            seen.add(v)
+            for i in index.get(v, ()):
+                if i not in taken:
+                    taken.add(i)
+                    todo.extend(abs(x) for x in hard[i] if abs(x) > nf and abs(x) not in seen)
+        return [hard[i] for i in sorted(taken)]
 
     def witness(self) -> Optional[list[int]]:
         self.is_void()

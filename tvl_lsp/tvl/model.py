@@ -192,6 +192,9 @@ class Constraint:
     owner: "Feature"
     span: Span
     path: str
+    # a DIMACS clause (signed indexes into ``Model.features``) when the constraint is one: the
+    # encoder takes it as it is instead of walking ``expr`` (10^5 clauses in industrial models)
+    clause: Optional[list[int]] = None
 
 
 @dataclass(eq=False)
