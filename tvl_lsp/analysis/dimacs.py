@@ -107,6 +107,31 @@ def _or_tree(items: list[M.Expr], span: Span, path: str) -> M.Expr:
     return items[0]
 
 
+class _ClauseConstraint(M.Constraint):
+    """A DIMACS clause as a constraint.  The encoder reads ``clause``; the expression (an OR
+    tree of literal nodes) is built only when something asks for it (a conversion, a hover):
+    10^5-10^6 clauses of trees were most of a big DIMACS model's time and memory."""
+
+    def __init__(self, clause: list[int], lit, owner: M.Feature, span: Span, path: str):
+        self.kind = "plain"
+        self.owner = owner
+        self.span = span
+        self.path = path
+        self.clause = clause
+        self._lit = lit
+        self._expr: Optional[M.Expr] = None
+
+    @property
+    def expr(self) -> M.Expr:  # type: ignore[override]
+        if self._expr is None:
+            self._expr = _or_tree([self._lit(x) for x in self.clause], self.span, self.path)
+        return self._expr
+
+    @expr.setter
+    def expr(self, value: M.Expr) -> None:
+        self._expr = value
+
+
 def read_dimacs(text: str, path: str = "model.dimacs"):
     """The flat model of a DIMACS file and its diagnostics (malformed lines, names given to two
     variables); never raises on bad input."""
@@ -174,8 +199,7 @@ def dimacs_to_model(text: str, path: str = "model.dimacs", errors: Optional[list
 
     for c, ln in zip(clauses, lines_of):
         span = Span(Pos(ln, 0), Pos(ln, line_lens[ln] if ln < len(line_lens) else 0))
-        items = [lit(x) for x in c]
-        root.constraints.append(M.Constraint(_or_tree(items, span, path), "plain", root, span, path, clause=c))
+        root.constraints.append(_ClauseConstraint(c, lit, root, span, path))
     # feature name spans: the ``c i name`` comment line when there is one
     for ln, line in enumerate(text.splitlines()):
         if line.startswith("c "):
