@@ -40,10 +40,11 @@ from dataclasses import dataclass, field
 from typing import Iterable, Optional
 
 from ..base.diagnostics import Diagnostic, Related, Severity, register
-from ..base.text import LineIndex, Span, ZERO_SPAN
+from ..base.text import Span, ZERO_SPAN
 from ..tvl import model as M
 from ..base import formula as fm
 from .distribute import _ALIAS, DistributeMixin, Lit, NotEncodable, _chain, _check_read  # noqa: F401
+from .labels import line_text, source_text  # noqa: F401 (source_text: used from here by others)
 
 CONSTRAINT_NOT_ENCODED = register(
     "constraint-not-encoded", Severity.INFORMATION,
@@ -56,7 +57,7 @@ MAX_DOMAIN = 4096
 # a constraint is distributed into at most this many clauses before Tseitin variables are used
 DISTRIBUTE_MAX = 16
 
-@dataclass(eq=False)
+@dataclass(eq=False, slots=True)
 class Element:
     """A piece of the model that can take part in an explanation."""
     kind: str  # root | parent-link | mandatory | group | group-lower | constraint | attribute
@@ -195,36 +196,6 @@ def _clean(clause: Iterable[Lit]) -> Optional[list[int]]:
             seen.add(x)
             out.append(x)
     return out
-
-
-def source_text(model: M.Model, path: str, span: Span, limit: int = 80,
-                cache: Optional[dict] = None) -> str:
-    text = model.sources.get(path)
-    if not text or span == ZERO_SPAN:
-        return ""
-    idx = cache.get(path) if cache is not None else None
-    if idx is None:
-        idx = LineIndex(text)
-        if cache is not None:
-            cache[path] = idx
-    try:
-        s = text[idx.offset(span.start):idx.offset(span.end)]
-    except Exception:
-        return ""
-    s = " ".join(s.split())
-    return s if len(s) <= limit else s[: limit - 1] + "…"
-
-
-def _line_text(model: M.Model, c: M.Constraint, cache: dict, limit: int = 80) -> str:
-    """:func:`source_text` of a constraint that is one whole line (a DIMACS clause), by line."""
-    lines = cache.get(("lines", c.path))
-    if lines is None:
-        lines = cache[("lines", c.path)] = (model.sources.get(c.path) or "").splitlines()
-    ln = c.span.start.line
-    s = " ".join(lines[ln].split()) if 0 <= ln < len(lines) and c.span.start.col == 0 else ""
-    if not s:
-        return source_text(model, c.path, c.span, limit, cache)
-    return s if len(s) <= limit else s[: limit - 1] + "…"
 
 
 _LOGIC_OPS = {"&&", "||", "->", "<-", "<->", "requires", "excludes"}
@@ -443,7 +414,7 @@ class Encoding(DistributeMixin):
                     feats = self.model.features
                     cl = _clean([v[feats[x]] if x > 0 else -v[feats[-x]] for x in c.clause])
                     clauses = [] if cl is None else [cl]
-                    text = _line_text(self.model, c, self._line_indexes) or "constraint"
+                    text = line_text(self.model, c, self._line_indexes) or "constraint"
                 else:
                     try:
                         clauses = []

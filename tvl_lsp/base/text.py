@@ -11,7 +11,7 @@ import bisect
 from dataclasses import dataclass
 
 
-@dataclass(frozen=True, order=True)
+@dataclass(frozen=True, order=True, slots=True)
 class Pos:
     line: int
     col: int  # code points
@@ -20,7 +20,7 @@ class Pos:
         return f"{self.line + 1}:{self.col + 1}"
 
 
-@dataclass(frozen=True, order=True)
+@dataclass(frozen=True, order=True, slots=True)
 class Span:
     start: Pos
     end: Pos

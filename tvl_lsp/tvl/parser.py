@@ -435,22 +435,24 @@ class _Ctx:
 
 
 _onew = object.__new__
+# the slots' descriptors: setting them directly skips the frozen dataclass's __init__ checks
+_set_line = Pos.__dict__["line"].__set__
+_set_col = Pos.__dict__["col"].__set__
+_set_start = Span.__dict__["start"].__set__
+_set_end = Span.__dict__["end"].__set__
 
 
 def _span(l1: int, c1: int, l2: int, c2: int) -> Span:
     """Span(Pos(l1, c1), Pos(l2, c2)) without the frozen-dataclass __init__ cost (hot path)."""
     a = _onew(Pos)
-    d = a.__dict__
-    d["line"] = l1
-    d["col"] = c1
+    _set_line(a, l1)
+    _set_col(a, c1)
     b = _onew(Pos)
-    d = b.__dict__
-    d["line"] = l2
-    d["col"] = c2
+    _set_line(b, l2)
+    _set_col(b, c2)
     sp = _onew(Span)
-    d = sp.__dict__
-    d["start"] = a
-    d["end"] = b
+    _set_start(sp, a)
+    _set_end(sp, b)
     return sp
 
 
