@@ -171,8 +171,11 @@ def test_excerpt_limited_to_the_session_files(server, ws):
 
 def _start_cli(ws, *extra):
     env = dict(os.environ, PYTHONUNBUFFERED="1")
+    # as from a terminal: Ctrl-C's SIGINT at its default disposition (a background job of a
+    # non-interactive shell, such as `pytest &`, inherits it ignored)
     return subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(ws), "--no-browser", *extra],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
 
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
