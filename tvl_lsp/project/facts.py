@@ -99,10 +99,41 @@ def compute_model_facts(path: str, sources: dict[str, str], timeout: float,
             facts.dead = set(eng.dead_features())
         if time.monotonic() < t_end:
             facts.false_optional = set(eng.false_optional_features())
+            if r.complete and facts.total is not None:
+                # complete and exact: kept on disk by content, so reopening the model reads
+                # them back (stored_model_facts) instead of parsing and counting again
+                _store(path, sources, facts)
     except Exception as e:  # a timeout or a model the engine refuses: say so, never crash
         facts.error = f"{type(e).__name__}: {e}" if str(e) else type(e).__name__
     facts.seconds = time.perf_counter() - t0
     return facts
+
+
+def _store(path: str, sources: dict[str, str], facts: ModelFacts) -> None:
+    from . import factstore
+    try:
+        factstore.store(path, sources, {"total": facts.total, "per_feature": facts.per_feature,
+                                        "core": facts.core, "dead": facts.dead,
+                                        "false_optional": facts.false_optional})
+    except Exception:  # noqa: BLE001 (the store is an optimisation: never fail the count)
+        pass
+
+
+def stored_model_facts(path: str, sources: dict[str, str]) -> Optional[ModelFacts]:
+    """The facts :func:`compute_model_facts` stored for exactly this content (the model's
+    text and the texts of the files it read), or None: no parse, no encoding, no circuit.
+    A damaged or foreign file is ignored (and removed)."""
+    from . import factstore
+    t0 = time.perf_counter()
+    try:
+        fields = factstore.load(path, sources)
+    except Exception:  # noqa: BLE001 (an unreadable store is a miss)
+        return None
+    if fields is None:
+        return None
+    return ModelFacts(total=fields["total"], per_feature=fields["per_feature"], core=fields["core"],
+                      dead=fields["dead"], false_optional=fields["false_optional"],
+                      seconds=time.perf_counter() - t0)
 
 
 def count_under(path: str, sources: dict[str, str], formula, timeout: float) -> Optional[int]:
