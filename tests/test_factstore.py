@@ -157,7 +157,7 @@ def test_unreadable_cache_folder_is_a_miss(tmp_path, monkeypatch):
 def test_counts_beyond_the_int_string_limit_round_trip():
     big = 3 ** 20000  # 9,543 decimal digits: json's int conversion refuses more than 4,300
     fields = {"total": big, "per_feature": {"A": big, "B": big // 3, "C": 0}, "core": {"A"}, "dead": {"C"},
-              "false_optional": set()}
+              "false_optional": set(), "hover": None}
     data = factstore.encode("k", fields)
     assert factstore.decode("k", data) == fields
     assert factstore.decode("other", data) is None
@@ -183,3 +183,45 @@ def test_the_worker_initializer_imports_nothing_heavy():
     assert out.stdout.strip() == "[]", out.stdout
     from tvl_lsp.lsp import procinit, workers
     assert workers._worker_init is procinit._worker_init
+
+
+# ------------------------------------------------------------------ the hover before the parse
+
+EXAMPLE = REPO / "examples" / "ws" / "src" / "turtlerand" / "launch" / "generic.tvl"
+IMPORTS = REPO / "tests" / "data" / "uvl" / "imports" / "main.uvl"
+
+
+@pytest.mark.parametrize("path", [ROBOT, CARDS, EXAMPLE])
+def test_stored_hover_rows_say_what_the_parsed_hover_says(cache, path):
+    """Every feature declaration of a self-contained model: the stored hover (answered before
+    the server parses) is the hover the parse gives, at every position of the name."""
+    from tvl_lsp.base.text import Pos
+    src = _src(path)
+    computed = F.compute_model_facts(str(path), src, 30.0)
+    stored = F.stored_model_facts(str(path), src)
+    assert stored.hover, "no hover rows stored"
+    model = models.load(str(path), src[str(path)], src.get)[0].model
+    declared = {(f, s) for f in model.features for p, s in f.decl_spans if p == str(path)}
+    assert len(stored.hover) == len(declared)
+    for r in stored.hover:
+        for line, col in ((r[0], r[1]), (r[2], r[3]), (r[0], (r[1] + r[3]) // 2)):
+            target, span = F.name_at(model, str(path), Pos(line, col))
+            assert F.hover_at(stored.hover, Pos(line, col)) == (F.feature_markdown(target, computed), span)
+    assert F.hover_at(stored.hover, Pos(10_000, 0)) is None
+
+
+def test_no_hover_rows_for_a_model_that_reads_other_files_or_has_errors(cache):
+    src = {str(IMPORTS): IMPORTS.read_text()}
+    for p in sorted((IMPORTS.parent).rglob("*.uvl")):
+        src[str(p)] = p.read_text()
+    f = F.compute_model_facts(str(IMPORTS), src, 30.0)
+    assert f.error is None and f.total
+    stored = F.stored_model_facts(str(IMPORTS), src)
+    assert stored is not None and stored.hover is None
+    # its text alone is not the model: nothing stored under the text alone
+    assert F.stored_model_facts(str(IMPORTS), {str(IMPORTS): src[str(IMPORTS)]}) is None
+    broken = ROBOT.read_text() + "\n\tArm =>\n"
+    models.clear()
+    f = F.compute_model_facts(str(ROBOT), {str(ROBOT): broken}, 30.0)
+    stored = F.stored_model_facts(str(ROBOT), {str(ROBOT): broken})
+    assert stored is None or stored.hover is None

@@ -14,7 +14,7 @@ import pytest
 from lsprotocol import types
 from pytest_lsp import ClientServerConfig
 
-from server_helpers import open_doc, position_of, start
+from server_helpers import diagnostics, open_doc, position_of, start
 from testenv import REPO
 
 pytestmark = pytest.mark.asyncio
@@ -97,6 +97,10 @@ async def test_reopened_model_hover_is_counted_at_once_and_edits_are_never_stale
         uri = open_doc(again, model)
         value = await _first_feature_hover(again, uri, pos)
         assert "in **4 of 6 products**" in value, value
+        # (answered from the stored facts, maybe before the server's parse: the same text)
+        await diagnostics(again, uri)
+        assert await _hover(again, uri, pos) == value
+        assert "**root feature** `Robot`" in await _hover(again, uri, position_of(ROBOT_UVL, "Robot", offset=1))
         # an edit (the constraint removed) is a new content: its own exact count, never the
         # stored one of the old text
         edited = ROBOT_UVL.replace("constraints\n\tArm => Kobuki\n", "")

@@ -412,6 +412,24 @@ class Scheduler:
             log.info("facts of %s: read from the disk cache in %.3f s", model_path, got.seconds)
         return got
 
+    async def stored_feature_hover(self, path: str, pos):
+        """(markdown, span) of the feature declared at ``pos`` from the facts stored for the
+        current text of ``path`` (a model that reads no other file: its text alone decides
+        it), before any parse here; None when nothing stored answers there."""
+        text = self.read_file(path)
+        if text is None:
+            return None
+        sources = {path: text}
+        ckey = content_key(f"{path}\0{text}")  # (model_facts's key of these sources)
+        facts = await self._stored_facts(path, sources, ckey)
+        if facts is None or not facts.hover:
+            return None
+        key = ("facts", ckey, self.settings.time_budget)
+        if key not in self.cache:
+            self.cache[key] = facts
+            self._remember(key)
+        return _facts.hover_at(facts.hover, pos)
+
     async def count_under(self, model_path: str, formula, wait: Optional[float] = None):
         sources = await self.model_sources(model_path)
         if sources is None:

@@ -81,7 +81,8 @@ def key(path: str, sources: dict[str, str]) -> str:
 
 def encode(k: str, fields: dict) -> bytes:
     """The file's bytes for ``fields``: total (int), per_feature (name -> int, in order), core,
-    dead, false_optional (sets of names).  A header line (format, key, the payload's size and
+    dead, false_optional (sets of names), hover (None, or rows: ``[line, col, end line, end
+    col, markdown]`` of the feature declarations).  A header line (format, key, the payload's size and
     SHA-256), then the payload (JSON)."""
     plain = {
         "total": format(fields["total"], "x"),
@@ -90,6 +91,8 @@ def encode(k: str, fields: dict) -> bytes:
         "dead": sorted(fields["dead"]),
         "false_optional": sorted(fields["false_optional"]),
     }
+    if fields.get("hover") is not None:
+        plain["hover"] = fields["hover"]
     payload = json.dumps(plain, separators=(",", ":")).encode()
     header = json.dumps({"format": FORMAT, "key": k, "size": len(payload),
                          "sha256": hashlib.sha256(payload).hexdigest()}, separators=(",", ":")).encode()
@@ -106,6 +109,19 @@ def _names(x) -> set[str]:
     if not isinstance(x, list) or not all(isinstance(n, str) for n in x):
         raise ValueError("not a list of names")
     return set(x)
+
+
+def _rows(x) -> Optional[list]:
+    """Hover rows: ``[line, col, end line, end col, markdown]`` (None when absent)."""
+    if x is None:
+        return None
+    if not isinstance(x, list):
+        raise ValueError("not a list of rows")
+    for r in x:
+        if not (isinstance(r, list) and len(r) == 5 and isinstance(r[4], str)
+                and all(type(v) is int and v >= 0 for v in r[:4]) and (r[0], r[1]) <= (r[2], r[3])):
+            raise ValueError("not a hover row")
+    return x
 
 
 def decode(k: str, data: bytes) -> Optional[dict]:
@@ -135,7 +151,8 @@ def decode(k: str, data: bytes) -> Optional[dict]:
                 return None
             per_feature[row[0]] = n
         return {"total": total, "per_feature": per_feature, "core": _names(plain["core"]),
-                "dead": _names(plain["dead"]), "false_optional": _names(plain["false_optional"])}
+                "dead": _names(plain["dead"]), "false_optional": _names(plain["false_optional"]),
+                "hover": _rows(plain.get("hover"))}
     except (ValueError, KeyError, TypeError, UnicodeDecodeError, RecursionError):
         return None
 
