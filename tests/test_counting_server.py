@@ -353,3 +353,86 @@ def test_a_click_makes_one_pass_for_what_it_forces_and_every_count(fresh_cache, 
     assert len(passes) == 2 and r2.total + r.total == a.count()
     r.counts[1] = -1  # a caller's change never reaches the next answer
     assert a.feature_counts_result(include=[names[1]]).counts[1] != -1
+
+
+# ------------------------------------------------------------------ reopening a model counted before
+
+def test_stored_facts_answer_without_any_worker_process(fresh_cache):
+    """A model whose facts were stored (counted before, by any process) is answered from the
+    disk at once: nothing is asked of the check process (busy with a long check) or the count
+    process."""
+    path = str(ROBOT)
+    text = ROBOT.read_text()
+    computed = F.compute_model_facts(path, {path: text}, 30.0)
+    assert computed.total and computed.error is None
+    srv = _Counting(path, text)
+
+    async def main():
+        return await srv.model_facts(path, wait=0.3)
+    facts = asyncio.run(main())
+    assert facts is not None and facts.total == computed.total and facts.per_feature == computed.per_feature
+    assert not srv.pool.calls and not srv.counts.calls
+    # another text (even a layout change) is not answered from this text's file
+    srv2 = _Counting(path, text + "\n")
+
+    async def main2():
+        return await srv2.model_facts(path)
+    assert asyncio.run(main2()).total != computed.total  # (the fake processes never count)
+    assert srv2.pool.calls
+
+
+class _Parsing(_Server):
+    """The document store's parse sharing, with a slow parse that counts its calls."""
+
+    def __init__(self, path, text):
+        super().__init__(path, text)
+        from tvl_lsp.lsp.documents import DocumentStore
+        self._ds = DocumentStore
+        self.parsed_cache = {}
+        self._parsing = {}
+        self.roots = []
+        self.calls = 0
+
+    def parse_task(self, path, kind, text):
+        return self._ds.parse_task(self, path, kind, text)
+
+    def _parse_key(self, path, text):
+        return self._ds._parse_key(self, path, text)
+
+    def _store_parsed(self, path, text, parsed):
+        return self._ds._store_parsed(self, path, text, parsed)
+
+    async def _parse_now(self, path, kind, text):
+        return await self._ds._parse_now(self, path, kind, text)
+
+    def snapshot_reader(self):
+        return lambda p: None
+
+
+def test_the_syntax_pass_and_a_request_share_one_parse(monkeypatch):
+    """Opening a model starts its syntax pass; a hover at the same moment needs the same parse:
+    one parse (two at once in one process share the interpreter lock: each takes twice as
+    long -- the first counted hover of a big model waited for both)."""
+    text = ROBOT.read_text()
+    srv = _Parsing(str(ROBOT), text)
+    calls = []
+    real = checks.parse_document
+
+    def slow_parse(*a):
+        calls.append(a[1])
+        time.sleep(0.3)
+        return real(*a)
+    monkeypatch.setattr(checks, "parse_document", slow_parse)
+
+    async def main():
+        srv.docs["file://m"].kind = "uvl"
+        srv.schedule = None
+        syntax = asyncio.ensure_future(srv._syntax_pass("file://m"))
+        await asyncio.sleep(0.05)
+        got = await asyncio.shield(srv.parse_task(str(ROBOT), "uvl", text))
+        await syntax
+        return got
+    srv.docs = {"file://m": SimpleNamespace(version=1, text=text, path=str(ROBOT), kind="uvl")}
+    got = asyncio.run(main())
+    assert got.model is not None and len(calls) == 1, calls
+    assert srv.results["file://m"].phase == "syntax"

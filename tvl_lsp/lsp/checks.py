@@ -58,13 +58,6 @@ def parse_document(kind: str, path: str, text: str, read: Reader, roots: Sequenc
     return None
 
 
-def syntax_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[str]):
-    """Fast diagnostics (parse + load-time rules, no solver) and the parsed document."""
-    parsed = parse_document(kind, path, text, read, roots)
-    diags = list(getattr(parsed, "diagnostics", []) or [])
-    return diags, parsed
-
-
 def full_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[str],
                budget: float, workspace=None) -> list[Diagnostic]:
     """Every diagnostic of the document, solver-backed ones included: exactly what

@@ -156,20 +156,27 @@ class DocumentStore:
         # one parse per text, shared by every request that needs it; a request waits for it at
         # most PARSE_WAIT seconds, then answers from the last parse of the file (ranges are
         # clamped to the current text by convert.py): a long parse never stalls a request
+        task = self.parse_task(path, kind, text)
+        if wait is not None and path not in self.parsed_cache:
+            wait = FIRST_PARSE_WAIT  # nothing to answer from yet: wait a little longer
+        try:
+            return await asyncio.wait_for(asyncio.shield(task), wait)
+        except asyncio.TimeoutError:
+            log.info("parse of %s still running: answering from the last parse", path)
+            last = self.parsed_cache.get(path)
+            return last[1] if last is not None else None
+
+    def parse_task(self, path: str, kind: str, text: str) -> asyncio.Future:
+        """The parse of ``text`` (the text of ``path``), in a thread: one per text, shared by
+        the syntax pass and every request (a big model parsed twice at once in one process
+        takes twice as long: the two threads share one interpreter lock)."""
         key = self._parse_key(path, text)
         running = self._parsing.get(path)
         if running is None or running[0] != key:
             task = asyncio.ensure_future(self._parse_now(path, kind, text))
             task.add_done_callback(lambda t: t.cancelled() or t.exception())
             self._parsing[path] = running = (key, task)
-        if wait is not None and path not in self.parsed_cache:
-            wait = FIRST_PARSE_WAIT  # nothing to answer from yet: wait a little longer
-        try:
-            return await asyncio.wait_for(asyncio.shield(running[1]), wait)
-        except asyncio.TimeoutError:
-            log.info("parse of %s still running: answering from the last parse", path)
-            last = self.parsed_cache.get(path)
-            return last[1] if last is not None else None
+        return running[1]
 
     async def _parse_now(self, path: str, kind: str, text: str):
         try:

@@ -52,6 +52,7 @@ class Scheduler:
         self._facts_futures: dict[str, asyncio.Future] = {}
         self._facts_queued: dict[str, tuple] = {}
         self._facts_submitted: dict[str, asyncio.Event] = {}  # set once a count is in a pool's queue
+        self._facts_lookups: dict[str, asyncio.Future] = {}  # content key -> read of the stored facts
 
     # ------------------------------------------------------------ scheduling
     def schedule(self, uri: str, syntax: bool = True) -> None:
@@ -79,11 +80,12 @@ class Scheduler:
                 if doc is None:
                     return
                 version, text, path, kind = doc.version, doc.text, doc.path, doc.kind
-                reader = self.snapshot_reader()
                 try:
-                    diags, parsed = await self.run_in_thread(checks.syntax_check, kind, path, text, reader, self.roots)
+                    # the parse requests share (hover, outline, model_sources) when one of
+                    # this text is under way: one parse per text at a time
+                    parsed = await asyncio.shield(self.parse_task(path, kind, text))
+                    diags = list(getattr(parsed, "diagnostics", []) or [])
                     log.info("syntax of %s: %d diagnostics", path, len(diags))
-                    self._store_parsed(path, text, parsed)
                 except Exception:
                     log.exception("syntax check of %s failed", path)
                     diags = []
@@ -263,6 +265,17 @@ class Scheduler:
             old[1].cancel()
         fut = self._facts_futures.get(key[1])
         if fut is None:
+            # counted before (this very content, in any process): the facts stored on disk,
+            # read in a thread -- no parse, encoding or circuit in a worker process
+            stored = await self._stored_facts(model_path, sources, key[1])
+            if stored is not None:
+                self.cache[key] = stored
+                self._remember(key)
+                if submitted is not None:
+                    submitted.set()
+                return stored
+            fut = self._facts_futures.get(key[1])
+        if fut is None:
             loop = asyncio.get_running_loop()
 
             async def compute():
@@ -370,6 +383,52 @@ class Scheduler:
             return await asyncio.wait_for(asyncio.shield(fut), wait)
         except asyncio.TimeoutError:
             return None
+
+    async def _stored_facts(self, model_path: str, sources: dict[str, str], ckey: str):
+        """The facts stored on disk for this content (:func:`.facts.stored_model_facts`), or
+        None; one look-up per content, shared by concurrent callers."""
+        if ("facts-stored-miss", ckey) in self.cache:
+            return None
+        running = self._facts_lookups.get(ckey)
+        first = running is None
+        if first:
+            running = asyncio.ensure_future(self.run_in_thread(_facts.stored_model_facts, model_path, sources))
+            running.add_done_callback(_consume)
+            self._facts_lookups[ckey] = running
+        try:
+            got = await asyncio.shield(running)
+        except asyncio.CancelledError:
+            raise
+        except Exception:
+            log.exception("reading the stored facts of %s failed", model_path)
+            got = None
+        finally:
+            if running.done():
+                self._facts_lookups.pop(ckey, None)
+        if got is None:
+            self.cache[("facts-stored-miss", ckey)] = True
+            self._remember(("facts-stored-miss", ckey))
+        elif first:
+            log.info("facts of %s: read from the disk cache in %.3f s", model_path, got.seconds)
+        return got
+
+    async def stored_feature_hover(self, path: str, pos):
+        """(markdown, span) of the feature declared at ``pos`` from the facts stored for the
+        current text of ``path`` (a model that reads no other file: its text alone decides
+        it), before any parse here; None when nothing stored answers there."""
+        text = self.read_file(path)
+        if text is None:
+            return None
+        sources = {path: text}
+        ckey = content_key(f"{path}\0{text}")  # (model_facts's key of these sources)
+        facts = await self._stored_facts(path, sources, ckey)
+        if facts is None or not facts.hover:
+            return None
+        key = ("facts", ckey, self.settings.time_budget)
+        if key not in self.cache:
+            self.cache[key] = facts
+            self._remember(key)
+        return _facts.hover_at(facts.hover, pos)
 
     async def count_under(self, model_path: str, formula, wait: Optional[float] = None):
         sources = await self.model_sources(model_path)

@@ -20,6 +20,8 @@ from typing import Optional
 
 from lsprotocol import types
 
+from .procinit import _warm, _worker_init
+
 
 class Workers:
     """Thread and process pools, progress (a mixin of the server)."""
@@ -97,30 +99,6 @@ class Workers:
             self.work_done_progress.end(token, types.WorkDoneProgressEnd(message="done"))
 
 
-def _worker_init() -> None:
-    """Worker processes (checks, counts) yield the CPU to the process answering the editor,
-    and die with it (an editor may kill the server without a ``shutdown``)."""
-    try:
-        os.nice(10)
-    except (OSError, AttributeError):
-        pass
-    parent = os.getppid()
-    try:  # Linux: SIGKILL when the parent dies
-        import ctypes
-        import signal
-        libc = ctypes.CDLL("libc.so.6", use_errno=True)
-        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
-    except Exception:
-        pass
-
-    def orphan_watch():  # elsewhere (or if the parent died before prctl): poll
-        while True:
-            time.sleep(1.0)
-            if os.getppid() != parent:
-                os._exit(0)
-    threading.Thread(target=orphan_watch, daemon=True).start()
-
-
 def _consume(fut) -> None:
     """Retrieve a future's exception so that asyncio does not log it as never retrieved."""
     if not fut.cancelled():
@@ -137,15 +115,6 @@ def _kill_pool(pool) -> None:
         pass
     try:
         pool.shutdown(wait=True, cancel_futures=True)  # quick: its processes are gone
-    except Exception:
-        pass
-
-
-def _warm() -> None:
-    try:
-        from ..project import facts as _facts  # noqa: F401
-        from ..analysis import engine  # noqa: F401
-        from ..tvl import parse_model  # noqa: F401
     except Exception:
         pass
 

@@ -30,6 +30,10 @@ class ModelFacts:
     # background: ask again) or "fallback" (d4 cannot count it: ask without ``wait``, where a
     # slow pyganak count blocks nothing)
     pending: Optional[str] = None
+    # read back from the disk (stored_model_facts) for a model that reads no other file and
+    # parses without error: the hover of each feature declaration (hover_rows), which a
+    # server answers before its own parse of the text
+    hover: Optional[list] = None
 
 
 def _names(items) -> set[str]:
@@ -99,10 +103,59 @@ def compute_model_facts(path: str, sources: dict[str, str], timeout: float,
             facts.dead = set(eng.dead_features())
         if time.monotonic() < t_end:
             facts.false_optional = set(eng.false_optional_features())
+            if r.complete and facts.total is not None:
+                # complete and exact: kept on disk by content, so reopening the model reads
+                # them back (stored_model_facts) instead of parsing and counting again
+                _store(path, sources, facts, _self_contained_rows(path, sources, facts))
     except Exception as e:  # a timeout or a model the engine refuses: say so, never crash
         facts.error = f"{type(e).__name__}: {e}" if str(e) else type(e).__name__
     facts.seconds = time.perf_counter() - t0
     return facts
+
+
+def _self_contained_rows(path: str, sources: dict[str, str], facts: ModelFacts) -> Optional[list]:
+    """:func:`hover_rows` when the model's parse read no other file and has no error (then
+    its text alone decides it: a server may answer from them before parsing), else None."""
+    from . import models
+    reads: dict[str, Optional[str]] = {}
+
+    def recording(p: str) -> Optional[str]:
+        reads[p] = sources.get(p)
+        return reads[p]
+    try:
+        res = models.load(path, sources[path], recording)[0]
+        if reads or getattr(res, "errors", None) or res.model is None:
+            return None
+        return hover_rows(res.model, path, facts)
+    except Exception:  # noqa: BLE001 (no rows: the server parses first, as without a store)
+        return None
+
+
+def _store(path: str, sources: dict[str, str], facts: ModelFacts, rows: Optional[list] = None) -> None:
+    from . import factstore
+    try:
+        factstore.store(path, sources, {"total": facts.total, "per_feature": facts.per_feature,
+                                        "core": facts.core, "dead": facts.dead,
+                                        "false_optional": facts.false_optional, "hover": rows})
+    except Exception:  # noqa: BLE001 (the store is an optimisation: never fail the count)
+        pass
+
+
+def stored_model_facts(path: str, sources: dict[str, str]) -> Optional[ModelFacts]:
+    """The facts :func:`compute_model_facts` stored for exactly this content (the model's
+    text and the texts of the files it read), or None: no parse, no encoding, no circuit.
+    A damaged or foreign file is ignored (and removed)."""
+    from . import factstore
+    t0 = time.perf_counter()
+    try:
+        fields = factstore.load(path, sources)
+    except Exception:  # noqa: BLE001 (an unreadable store is a miss)
+        return None
+    if fields is None:
+        return None
+    return ModelFacts(total=fields["total"], per_feature=fields["per_feature"], core=fields["core"],
+                      dead=fields["dead"], false_optional=fields["false_optional"],
+                      hover=fields.get("hover"), seconds=time.perf_counter() - t0)
 
 
 def count_under(path: str, sources: dict[str, str], formula, timeout: float) -> Optional[int]:
@@ -143,6 +196,94 @@ def percent(n: int, total: int) -> str:
     if p in (0, 100) or p >= 1:
         return f"{p:.0f} %" if abs(p - round(p)) < 0.05 else f"{p:.1f} %"
     return f"{p:.2g} %"
+
+
+# ------------------------------------------------------------------ hover text
+
+def count_line(facts, f: M.Feature) -> str:
+    if facts is None:
+        return "products: counting… (hover again in a moment)"
+    if facts.error and facts.total is None:
+        return f"products: not counted ({facts.error})"
+    total = facts.total
+    if f.is_root or f.parent is None:
+        return f"**{total} products** in total" if total is not None else "products: unknown"
+    n = facts.per_feature.get(f.long_name, facts.per_feature.get(f.name))
+    if n is None or total is None:
+        return "products: unknown"
+    return f"in **{n} of {total} products** ({percent(n, total)})"
+
+
+def feature_markdown(f: M.Feature, facts) -> str:
+    kind = "root feature" if (f.is_root or f.parent is None) else "feature"
+    lines = [f"**{kind}** `{f.long_name}`", ""]
+    if f.parent is not None:
+        parents = ", ".join(f"`{p.name}`" for p in f.parents)
+        lines.append(f"- parent: {parents}")
+        g = f.parent.group_of(f)
+        if g is not None:
+            opt = "optional" if g.keyword else "optional (`opt`)"  # (UVL groups say it with their keyword)
+            if g.kind == "allOf":
+                role = opt if f.optional else "mandatory (selected with its parent)"
+            else:
+                role = opt if f.optional else "counted by the group's cardinality"
+            lines.append(f"- in the group `{group_text(g)}` of `{f.parent.name}`: {role}")
+    else:
+        lines.append("- the root: selected in every product")
+    for g in f.groups:
+        kids = ", ".join(("opt " if c.optional and not g.keyword else "") + c.feature.name for c in g.children)
+        lines.append(f"- group `{group_text(g)}` over {kids}")
+    if facts is not None and not (f.is_root or f.parent is None):
+        flags = []
+        for label, names in (("core (in every product)", facts.core), ("dead (in no product)", facts.dead),
+                             ("false-optional (declared optional, yet in every product with its parent)",
+                              facts.false_optional)):
+            if f.long_name in names or f.name in names:
+                flags.append(label)
+        if flags:
+            lines.append("- " + "; ".join(flags))
+    for a in f.attributes:
+        extra = ""
+        if getattr(a, "uvl_text", None) is not None:  # a UVL attribute: its text, not analysed
+            lines.append(f"- attribute `{' '.join(a.uvl_text.split())[:80]}` (not analysed)")
+            continue
+        if a.value is not None:
+            extra = " (computed)"
+        elif a.domain is not None:
+            extra = " (in a domain)"
+        lines.append(f"- attribute `{a.type} {a.name}`{extra}")
+    if f.constraints:
+        lines.append(f"- {len(f.constraints)} constraint(s)")
+    lines.append("")
+    lines.append(count_line(facts, f))
+    return "\n".join(lines)
+
+
+def hover_rows(model: M.Model, path: str, facts: ModelFacts) -> list[list]:
+    """``[start line, start col, end line, end col, markdown]`` for every feature declared in
+    the file ``path``: what the hover on its name says with these facts.  Only names no other
+    occurrence overlaps (:func:`name_at` answers them with their feature wherever the
+    position is in them); one pass over the model's occurrences."""
+    from ..tvl import symbols
+    occ = sorted({(sp.start, sp.end, id(t)): (sp, t, d) for p, sp, t, d in symbols.occurrences(model)
+                  if p == path and sp is not None}.values(), key=lambda x: (x[0].start, x[0].end))
+    rows = []
+    reach = None  # the furthest end of the occurrences before
+    for i, (sp, t, decl) in enumerate(occ):
+        overlaps = (reach is not None and reach >= sp.start) or (
+            i + 1 < len(occ) and occ[i + 1][0].start <= sp.end)
+        reach = sp.end if reach is None or sp.end > reach else reach
+        if decl and isinstance(t, M.Feature) and not overlaps:
+            rows.append([sp.start.line, sp.start.col, sp.end.line, sp.end.col, feature_markdown(t, facts)])
+    return rows
+
+
+def hover_at(rows: list, pos: Pos) -> Optional[tuple[str, Span]]:
+    """(markdown, span) of the row of :func:`hover_rows` whose span contains ``pos``."""
+    for r in rows:
+        if (r[0], r[1]) <= (pos.line, pos.col) <= (r[2], r[3]):
+            return r[4], Span(Pos(r[0], r[1]), Pos(r[2], r[3]))
+    return None
 
 
 # ------------------------------------------------------------------ TVL look-ups

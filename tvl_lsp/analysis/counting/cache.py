@@ -3,10 +3,12 @@
 The disk cache lives in ``$TVL_LSP_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/tvl-lsp/ddnnf``,
 else ``~/.cache/tvl-lsp/ddnnf``.  One file per compiled CNF, named by the SHA-256 of the CNF
 (and of the compiler's version), so two models that differ only in layout or comments
-share it.  It is bounded: after a write, the least recently used files go until the folder
-holds at most ``$TVL_LSP_CACHE_MAX_MB`` megabytes (default 512).  Safe under concurrent
-writers (several editors, CI jobs): every file is written under a unique temporary name and
-renamed into place atomically, readers that find a damaged file delete it and recompile, and
+share it.  Small results derived from a compilation are kept beside them as blobs
+(:meth:`DiskCache.put_blob`: a model's facts by content, :mod:`tvl_lsp.project.factstore`).
+It is bounded: after a write, the least recently used files go until the folder holds at most
+``$TVL_LSP_CACHE_MAX_MB`` megabytes (default 512).  Safe under concurrent writers (several
+editors, CI jobs): every file is written under a unique temporary name and renamed into place
+atomically, readers that find a damaged file delete it and recompile, and
 a file that disappears under a reader (evicted by another process) is a miss.
 """
 
@@ -54,6 +56,13 @@ def max_bytes() -> int:
         return int(float(os.environ.get("TVL_LSP_CACHE_MAX_MB", DEFAULT_MAX_MB)) * 1024 * 1024)
     except ValueError:
         return DEFAULT_MAX_MB * 1024 * 1024
+
+
+BLOB_MAX_BYTES = 64 * 1024 * 1024  # a stored blob bigger than this is not read (nor written)
+
+
+def _safe_name(name: str) -> bool:
+    return bool(name) and not name.startswith(".") and all(c.isalnum() or c in "._-" for c in name)
 
 
 class DiskCache:
@@ -141,6 +150,57 @@ class DiskCache:
         self._put_count(key, count)
         self.evict()
         return p
+
+    def get_blob(self, name: str) -> Optional[bytes]:
+        """The bytes stored under ``name`` (a file name of letters, digits, '.', '-' and '_'
+        written by :meth:`put_blob`), or None (absent, unreadable, no cache)."""
+        d = self.folder
+        if d is None or not _safe_name(name):
+            return None
+        p = d / name
+        try:
+            with open(p, "rb") as fh:
+                data = fh.read(BLOB_MAX_BYTES + 1)
+        except OSError:
+            return None
+        if len(data) > BLOB_MAX_BYTES:
+            return None
+        try:
+            os.utime(p)  # least recently *used* goes first
+        except OSError:
+            pass
+        return data
+
+    def put_blob(self, name: str, data: bytes) -> Optional[Path]:
+        """Store ``data`` under ``name``, atomically (a unique temporary file renamed into
+        place: a reader sees the old file, the new one or none, never a part), then keep the
+        folder within its bound.  Never raises on a disk error (the cache is an optimisation)."""
+        d = self.folder
+        if d is None or not _safe_name(name) or len(data) > BLOB_MAX_BYTES:
+            return None
+        p = d / name
+        tmp = d / f".{name}.{os.getpid()}.{threading.get_ident()}.tmp"
+        try:
+            d.mkdir(parents=True, exist_ok=True)
+            with open(tmp, "wb") as fh:
+                fh.write(data)
+            os.replace(tmp, p)
+        except OSError:
+            try:
+                tmp.unlink()
+            except OSError:
+                pass
+            return None
+        self.evict()
+        return p
+
+    def discard_blob(self, name: str) -> None:
+        d = self.folder
+        if d is not None and _safe_name(name):
+            try:
+                (d / name).unlink()
+            except OSError:
+                pass
 
     def discard(self, key: str) -> None:
         p = self.path(key)

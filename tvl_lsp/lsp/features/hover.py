@@ -41,65 +41,20 @@ def _rel(ls, path: str) -> str:
 
 
 def count_line(facts, f: M.Feature) -> str:
-    if facts is None:
-        return "products: counting… (hover again in a moment)"
-    if facts.error and facts.total is None:
-        return f"products: not counted ({facts.error})"
-    total = facts.total
-    if f.is_root or f.parent is None:
-        return f"**{total} products** in total" if total is not None else "products: unknown"
-    n = facts.per_feature.get(f.long_name, facts.per_feature.get(f.name))
-    if n is None or total is None:
-        return "products: unknown"
-    return f"in **{n} of {total} products** ({F.percent(n, total)})"
+    return F.count_line(facts, f)
 
 
 def feature_markdown(ls, f: M.Feature, facts) -> str:
-    kind = "root feature" if (f.is_root or f.parent is None) else "feature"
-    lines = [f"**{kind}** `{f.long_name}`", ""]
-    if f.parent is not None:
-        parents = ", ".join(f"`{p.name}`" for p in f.parents)
-        lines.append(f"- parent: {parents}")
-        g = f.parent.group_of(f)
-        if g is not None:
-            opt = "optional" if g.keyword else "optional (`opt`)"  # (UVL groups say it with their keyword)
-            if g.kind == "allOf":
-                role = opt if f.optional else "mandatory (selected with its parent)"
-            else:
-                role = opt if f.optional else "counted by the group's cardinality"
-            lines.append(f"- in the group `{F.group_text(g)}` of `{f.parent.name}`: {role}")
-    else:
-        lines.append("- the root: selected in every product")
-    for g in f.groups:
-        kids = ", ".join(("opt " if c.optional and not g.keyword else "") + c.feature.name for c in g.children)
-        lines.append(f"- group `{F.group_text(g)}` over {kids}")
-    if facts is not None and not (f.is_root or f.parent is None):
-        flags = []
-        for label, names in (("core (in every product)", facts.core), ("dead (in no product)", facts.dead),
-                             ("false-optional (declared optional, yet in every product with its parent)",
-                              facts.false_optional)):
-            if f.long_name in names or f.name in names:
-                flags.append(label)
-        if flags:
-            lines.append("- " + "; ".join(flags))
-    for a in f.attributes:
-        extra = ""
-        if getattr(a, "uvl_text", None) is not None:  # a UVL attribute: its text, not analysed
-            lines.append(f"- attribute `{' '.join(a.uvl_text.split())[:80]}` (not analysed)")
-            continue
-        if a.value is not None:
-            extra = " (computed)"
-        elif a.domain is not None:
-            extra = " (in a domain)"
-        lines.append(f"- attribute `{a.type} {a.name}`{extra}")
-    if f.constraints:
-        lines.append(f"- {len(f.constraints)} constraint(s)")
-    lines.append("")
-    lines.append(count_line(facts, f))
-    return "\n".join(lines)
+    return F.feature_markdown(f, facts)
 
 
 async def tvl_hover(ls, path: str, pos):
+    if ls.parsed_now(path) is None:
+        # a model counted before, not parsed yet here (just reopened): its features'
+        # declarations answer from the facts stored for this very text
+        hit = await ls.stored_feature_hover(path, pos)
+        if hit is not None:
+            return hit
     res = await ls.parsed(path)
     model = getattr(res, "model", None)
     if model is None:

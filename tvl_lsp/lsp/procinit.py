@@ -1,0 +1,45 @@
+"""What the server's worker processes (checks, counts) run first: renice, die with the server,
+import the core.  A module of its own that imports nothing heavy: a worker process imports the
+initializer's module before running it, and at the server's nice level -- with
+:mod:`.workers` (lsprotocol: 0.4 s of CPU) the two workers' start-up competed with the server's
+first parse of the document being opened.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+import time
+
+
+def _worker_init() -> None:
+    """Worker processes (checks, counts) yield the CPU to the process answering the editor,
+    and die with it (an editor may kill the server without a ``shutdown``)."""
+    try:
+        os.nice(10)
+    except (OSError, AttributeError):
+        pass
+    parent = os.getppid()
+    try:  # Linux: SIGKILL when the parent dies
+        import ctypes
+        import signal
+        libc = ctypes.CDLL("libc.so.6", use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
+    except Exception:
+        pass
+
+    def orphan_watch():  # elsewhere (or if the parent died before prctl): poll
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent:
+                os._exit(0)
+    threading.Thread(target=orphan_watch, daemon=True).start()
+
+
+def _warm() -> None:
+    try:
+        from ..project import facts as _facts  # noqa: F401
+        from ..analysis import engine  # noqa: F401
+        from ..tvl import parse_model  # noqa: F401
+    except Exception:
+        pass
