@@ -370,3 +370,12 @@ def test_an_undeclared_arg_given_on_the_command_line_loads():
     assert o["ok"]
     lr = load_launch(path, args, packages=find_packages(str(OWN_WS)))
     assert lr.error is None and param_diff(lr, o["values"]) == []
+
+
+@pytest.mark.parametrize("args", [{}, {"serial": "false"}])
+def test_an_unused_include_arg_error_names_them_all(args):
+    path = str(OWN_WS / "delta" / "launch" / "unused_include_args.launch")
+    (o,) = _oracle([dict(file=path, args=args, package_path=str(OWN_WS))])
+    assert not o["ok"]
+    lr = load_launch(path, args, packages=find_packages(str(OWN_WS)))
+    assert lr.error == o["message"]

@@ -342,3 +342,20 @@ def test_elements_under_a_group_whose_ns_reads_an_unset_arg_are_not_dead():
     assert nodes(robot="r1") == ["/r1/arm", "/r1/arm/gripper"]
     assert nodes(robot="r1", with_arm="false") == ["/r1/base"]
     assert load_launch(str(path), {}, packages=PK).error is not None
+
+
+def test_one_error_names_every_unused_include_arg_as_roslaunch_does():
+    # jsk_robot's lead_teleop.launch passes joy and port to a file that declares neither:
+    # roslaunch 1.15 names both in one error, in the include's order; tvl-lsp launch named the
+    # first only.  The oracle's messages, recorded:
+    path = WS / "src" / "delta" / "launch" / "unused_include_args.launch"
+    child = path.with_name("unused_include_args_child.launch")
+    expected = {(): f"unused args [device, port, baud] for include of [{child}]",
+                (("serial", "false"),): f"unused args [device, port] for include of [{child}]"}
+    for args, message in expected.items():
+        lr = load_launch(str(path), dict(args), packages=PK)
+        assert (lr.error, lr.error_code) == (message, "unused-include-arg")
+    # --check keeps one diagnostic per unused arg, each on its own <arg>
+    diags = check_paths([str(path)], jobs=1)
+    assert [(d.code, d.span.start.line + 1) for d in diags] == [("unused-include-arg", n) for n in (7, 9, 10)]
+    assert "unused args [baud]" in diags[2].message and "when serial" in diags[2].message

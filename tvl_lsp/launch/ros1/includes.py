@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 import re
 
-from ...base.formula import FALSE, Formula, conj, disj, neg
+from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
 from ...base.text import Span
 from ..model import Element, IncludeFact
 from ..xml import XElement
@@ -157,9 +157,17 @@ class IncludeRules:
             if f.code in (UNDEFINED_ARG, UNSET_ARG) and f.path == path and "requires the" in f.message:
                 f.message = f.message.replace(f"[{path}] requires", f"included file [{fname}] requires")
         if not pass_all:
-            for name, pc in passed.items():
+            unused = [(name, conj([pc, neg(child.arg_names.get(name, FALSE))])) for name, pc in passed.items()]
+            if self.concrete:
+                # one assignment: roslaunch names every unused arg in one error, in the include's order
+                bad = [name for name, c in unused if c == TRUE]
+                if bad:
+                    self.fact(UNUSED_INCLUDE_ARG, f"unused args [{', '.join(bad)}] for include of [{fname}]", el,
+                              self.arg_child_span(x, el, emap, bad[0]), TRUE)
+                unused = [(name, c) for name, c in unused if c != TRUE]
+            for name, c in unused:  # each at its own <arg> (an editor shows each where it is)
                 self.fact(UNUSED_INCLUDE_ARG, f"unused args [{name}] for include of [{fname}]", el,
-                          self.arg_child_span(x, el, emap, name), conj([pc, neg(child.arg_names.get(name, FALSE))]))
+                          self.arg_child_span(x, el, emap, name), c)
 
     def _followable(self, fname: str) -> bool:
         """Whether include_one follows ``fname`` (a valid launch file in reach)."""
