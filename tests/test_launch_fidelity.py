@@ -359,3 +359,22 @@ def test_one_error_names_every_unused_include_arg_as_roslaunch_does():
     diags = check_paths([str(path)], jobs=1)
     assert [(d.code, d.span.start.line + 1) for d in diags] == [("unused-include-arg", n) for n in (7, 9, 10)]
     assert "unused args [baud]" in diags[2].message and "when serial" in diags[2].message
+
+
+def test_an_arg_the_file_sets_with_value_in_some_case_is_not_free():
+    # summit_xl_sim's summit_xls_complete.launch: <arg if="$(arg omni_drive)" name="X" value="true"/>
+    # and <arg unless="$(arg omni_drive)" name="X" default="true"/>.  roslaunch with the file's
+    # defaults loads it; --check took X as a free arg given on the command line in every product
+    # and called the <arg value> an error ("cannot override arg").  The oracle's answers, recorded:
+    path = WS / "src" / "delta" / "launch" / "conditional_value_arg.launch"
+    expected = {(): (["/base", "/planar"], True),
+                (("omni_drive", "false"),): (["/base"], False),
+                (("omni_drive", "false"), ("planar_move", "true")): (["/base", "/planar"], True)}
+    for args, (names, param) in expected.items():
+        lr = load_launch(str(path), dict(args), packages=PK)
+        assert lr.error is None, lr.error
+        assert sorted(n["name"] for n in lr.nodes) == names
+        assert lr.params["/base/planar_move"] is param
+    lr = load_launch(str(path), {"planar_move": "true"}, packages=PK)
+    assert lr.error == "Invalid <arg> tag: cannot override arg 'planar_move', which has already been set"
+    assert not [d for d in check_paths([str(path)], jobs=1) if d.code == "arg-already-set"]

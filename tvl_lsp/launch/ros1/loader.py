@@ -311,11 +311,15 @@ def _candidates(launch: Optional[XElement], with_defaults: bool, settable: bool 
     """Top-level args that may be free: no ``value`` (and no ``default`` unless
     ``with_defaults``), a plain name (that roslaunch's command line can set, if ``settable``:
     roslaunch ignores ``3d_sensor:=...``)."""
+    # an arg the file sets with ``value`` anywhere at the top (say under if="$(arg omni)", with a
+    # default under unless=) is not free: given on the command line, roslaunch rejects that
+    # ``<arg value>`` ("cannot override arg"), which running the file with its defaults never does
+    valued = {x.attrs["name"].value for x in _top_args(launch) if "name" in x.attrs and "value" in x.attrs}
     out = []
     for x in _top_args(launch):
         a = x.attrs
         if "name" in a and "value" not in a and (with_defaults or "default" not in a) and "$" not in a["name"].value \
-                and (not settable or cmdline_settable(a["name"].value)):
+                and a["name"].value not in valued and (not settable or cmdline_settable(a["name"].value)):
             out.append(a["name"].value)
     return list(dict.fromkeys(out))
 
