@@ -97,3 +97,16 @@ def test_launch_folding_is_linear_on_unclosed_comments_and_finds_what_the_tag_re
         want = [(m.start(), m.end()) + ((m.group(1), m.group(2), m.group(3)) if not m.group(0).startswith("<!--")
                                         else ("", None, "")) for m in _TAG.finditer(text)]
         assert list(xml_tags(text)) == want, text
+
+
+def test_the_server_gives_freed_memory_back_at_most_every_few_seconds():
+    """bench/bench_server_fuzz.py: after a big document's analysis the freed heap stayed in the
+    server's RSS (seed 3: +68 %); fixed mmap threshold and a trim when the checks are idle."""
+    import sys
+    from tvl_lsp.lsp import workers
+    if not sys.platform.startswith("linux"):
+        return
+    assert workers.bound_heap() is True
+    workers._RELEASED[0] = 0.0
+    assert workers.release_memory() is True or workers._RELEASED[0] > 0
+    assert workers.release_memory() is False  # throttled

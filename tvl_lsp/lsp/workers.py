@@ -117,6 +117,24 @@ def bound_heap(threshold: int = 128 * 1024) -> bool:
         return False
 
 
+_RELEASED = [0.0]
+
+
+def release_memory(every: float = 5.0) -> bool:
+    """Give the free memory at the top and inside the heap back to the system (glibc's
+    ``malloc_trim``), at most every ``every`` seconds: called when the server goes idle, so
+    the peak of a big document's analysis does not stay in its RSS for good."""
+    now = time.monotonic()
+    if now - _RELEASED[0] < every or not sys.platform.startswith("linux"):
+        return False
+    _RELEASED[0] = now
+    try:
+        import ctypes
+        return bool(ctypes.CDLL(None).malloc_trim(0))
+    except (OSError, AttributeError, TypeError):
+        return False
+
+
 def _worker_init() -> None:
     """Worker processes (checks, counts) yield the CPU to the process answering the editor,
     and die with it (an editor may kill the server without a ``shutdown``)."""
