@@ -101,3 +101,29 @@ def test_facts_of_a_model_d4_cannot_count_say_fallback(ws, monkeypatch):
     assert facts.compute_model_facts(path, sources, 10.0, 0.2).pending == "fallback"
     f = facts.compute_model_facts(path, sources, 10.0)  # the count process's call: pyganak
     assert f.pending is None and f.total == a.count()
+
+
+def test_decisions_on_features_the_model_lacks_are_named_not_a_solver_key_error(tmp_path):
+    """Found by bench/bench_server_fuzz.py (a decision kept while the model was edited): the
+    product look-ups name the unknown features (UnknownFeatures, a KeyError for the CLI)."""
+    path = str(tmp_path / "m.tvl")
+    sources = {path: "root A { group someOf { B, C } }\n"}
+    for call in (lambda d: facts.generation_products(path, sources, d, "one", 5),
+                 lambda d: facts.generation_products(path, sources, d, "sample", 5),
+                 lambda d: facts.list_products(path, sources, d, 5, 5.0)):
+        with pytest.raises(facts.UnknownFeatures) as ei:
+            call({"B": True, "Gone": False, "Zed": True})
+        assert ei.value.args[0] == "unknown feature(s): Gone, Zed"
+        assert call({"B": True})  # known decisions still work
+    assert facts.configure(path, sources, {"Gone": True}, 5.0)["error"] == "unknown feature(s): Gone"
+
+
+def test_a_count_under_a_condition_naming_no_feature_of_the_model_is_none(tmp_path):
+    """Found by bench/bench_server_fuzz.py: hovering a launch element whose condition names an
+    arg the (edited) model has no feature for raised KeyError in the worker (a traceback in
+    the server's log); it is not countable: None."""
+    from tvl_lsp.base import formula as fm
+    path = str(tmp_path / "m.tvl")
+    sources = {path: "root A { group someOf { B, C } }\n"}
+    assert facts.count_under(path, sources, fm.var("B"), 5.0) == 2
+    assert facts.count_under(path, sources, fm.conj([fm.var("B"), fm.var("Gone")]), 5.0) is None

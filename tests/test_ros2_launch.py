@@ -358,3 +358,25 @@ def test_the_ros1_corpus_is_read_as_ros1(corpus_dir):
     assert len(files) > 100
     wrong = [str(f) for f in files if detect_dialect(str(f)).dialect != "ros1"]
     assert wrong == []
+
+
+def test_the_parse_cache_keeps_two_versions_of_a_file_and_a_bounded_number_of_characters(tmp_path, monkeypatch):
+    """Found by bench/bench_server_fuzz.py: every text of an edited launch file stayed parsed
+    (up to 4,000 parses, each many times its text in memory: +40 MB in the server after a
+    thousand edits).  Now: at most two versions of one path, and a bound in characters."""
+    from tvl_lsp.launch.ros2 import walker as W
+    from tvl_lsp.launch.ros2.api import analyse_launch2
+    monkeypatch.setattr(W, "_PARSED", {})
+    monkeypatch.setattr(W, "_PARSED_CHARS", [0])
+    path = str(tmp_path / "a.launch.xml")
+    for i in range(30):
+        analyse_launch2(f'<launch>\n  <arg name="x{i}" default="true"/>\n</launch>\n', path)
+    mine = [k for k in W._PARSED if k[0] == path]
+    assert len(mine) == W.VERSIONS_PER_PATH, mine
+    assert W._PARSED_CHARS[0] == sum(k[1] for k in W._PARSED)
+    monkeypatch.setattr(W, "MAX_PARSED_CHARS", 5000)
+    big = '<launch>\n' + '  <arg name="y" default="true"/>\n' * 100 + '</launch>\n'  # ~3,300 characters
+    for i in range(5):
+        analyse_launch2(big, str(tmp_path / f"b{i}.launch.xml"))
+    assert W._PARSED_CHARS[0] <= 5000 and len(W._PARSED) >= 1
+    assert W._PARSED_CHARS[0] == sum(k[1] for k in W._PARSED)

@@ -209,3 +209,106 @@ def test_hover_and_definition_answer_within_2_s_during_a_long_analysis(server, t
         assert time.monotonic() - t < 2.0, (method, time.monotonic() - t)
         server.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": version}, "contentChanges": [
             {"range": {"start": {"line": 3, "character": 0}, "end": {"line": 3, "character": 0}}, "text": " "}]})
+
+
+# ------------------------------------------------------------------ deliberate errors, stale decisions
+
+def test_a_deliberate_error_answer_is_not_logged_as_a_crash(server, tmp_path):
+    """Found by bench/bench_server_fuzz.py: every -32602 a handler raises on purpose (nothing to
+    rename, an invalid new name, an unknown command) left a traceback on stderr, as a crash
+    does; the fuzz judge counts a traceback as an internal error."""
+    server.initialize(tmp_path)
+    uri = (tmp_path / "m.tvl").as_uri()
+    _open(server, uri, "root A { group allOf { B, C } }\n", "tvl")
+    asks = [("textDocument/rename", {**_hover(uri, 0, 1), "newName": "X"}),          # on `root`
+            ("textDocument/rename", {**_hover(uri, 0, 23), "newName": "é"}),         # on `B`
+            ("workspace/executeCommand", {"command": "tvl-lsp.noSuchCommand", "arguments": []}),
+            ("workspace/executeCommand", {"command": "tvl-lsp.include", "arguments": [uri]})]
+    for method, params in asks:
+        rep = server.response(server.request(method, params), 20)
+        assert rep is not None and rep.get("error", {}).get("code") == -32602, (method, params, rep)
+    err = _stderr_after_close(server)
+    assert b"Traceback" not in err, err.decode(errors="replace")
+
+
+def test_decisions_on_features_an_edit_removed_are_refused_not_an_internal_error(server, tmp_path):
+    """Found by bench/bench_server_fuzz.py: the configurator keeps its decisions while the model
+    is edited; once a decided feature was gone, listing products or generating configurations
+    failed inside the worker (KeyError: unknown feature) instead of saying so."""
+    server.initialize(tmp_path)
+    path = tmp_path / "m.tvl"
+    path.write_text("root A { group someOf { B, C } }\n")
+    uri = path.as_uri()
+    _open(server, uri, path.read_text(), "tvl")
+    rep = server.response(server.request("workspace/executeCommand",
+                                         {"command": "tvl-lsp.include", "arguments": [uri, "B"]}), 30)
+    assert "result" in rep and rep["result"]["decisions"] == {"B": True}, rep
+    server.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 2}, "contentChanges": [
+        {"range": {"start": {"line": 0, "character": 24}, "end": {"line": 0, "character": 25}}, "text": "D"}]})
+    rep = server.response(server.request("workspace/executeCommand",
+                                         {"command": "tvl-lsp.listProducts", "arguments": [uri, 5]}), 30)
+    assert rep is not None and rep.get("error", {}).get("code") == -32602, rep
+    assert "unknown feature(s): B" in rep["error"]["message"], rep
+    rep = server.response(server.request("workspace/executeCommand", {"command": "tvl-lsp.reset", "arguments": [uri]}), 30)
+    assert "result" in rep and rep["result"]["decisions"] == {}, rep
+    err = _stderr_after_close(server)
+    assert b"Traceback" not in err, err.decode(errors="replace")
+
+
+def test_ids_of_the_wrong_type_get_invalid_request_and_deep_messages_their_answer(server, tmp_path):
+    """Found by bench/bench_server_fuzz.py: a request whose id is an object or an array made the
+    protocol fail (unhashable id, a traceback, no answer); one nested deeper than the JSON
+    parser goes was answered with a parse error of id null, so its sender waited forever."""
+    server.initialize(tmp_path)
+    uri = (tmp_path / "m.tvl").as_uri()
+    for bad in ({"a": 1}, [1], 1.5, True):
+        server.send(frame({"jsonrpc": "2.0", "id": bad, "method": "textDocument/hover", "params": _hover(uri)}))
+    for depth in (5000, 100000):
+        rid = 700 + depth
+        server.send(frame(b'{"jsonrpc": "2.0", "id": %d, "method": "textDocument/hover", "params": {"x": %s0%s}}'
+                          % (rid, b"[" * depth, b"]" * depth)))
+        rep = server.response(rid, 10)
+        assert rep is not None and rep["error"]["code"] == -32600, rep
+    rid = server.request("textDocument/hover", _hover(uri))
+    assert server.response(rid, 10) is not None
+    nulls = [m["error"]["code"] for m in server.messages if m.get("id") is None and "error" in m]
+    assert nulls == [-32600] * 4, nulls
+    err = _stderr_after_close(server)
+    assert b"Traceback" not in err, err.decode(errors="replace")
+
+
+def test_finished_notification_handlers_are_forgotten(server, tmp_path):
+    """Found by bench/bench_server_fuzz.py: pygls kept the future of every notification
+    (each didChange) for good; the server forgets them once finished."""
+    server.initialize(tmp_path)
+    uri = (tmp_path / "m.tvl").as_uri()
+    _open(server, uri, "root A { group allOf { B, C } }\n", "tvl")
+    for v in range(2, 302):
+        server.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": v}, "contentChanges": [
+            {"range": {"start": {"line": 0, "character": 0}, "end": {"line": 0, "character": 0}}, "text": " "}]})
+    rid = server.request("workspace/executeCommand", {"command": "tvl-lsp.documentState", "arguments": [uri]})
+    state = server.response(rid, 20)["result"]
+    assert state["version"] == 301
+    assert state["handlers"] < 20, state["handlers"]
+
+
+def test_a_pull_answers_at_once_when_the_client_accepts_refreshes(server, tmp_path):
+    """Found by bench/bench_server_fuzz.py: ``textDocument/diagnostic`` waited for the
+    solver-backed check (up to its budget, 11 s) while requests are to be answered within
+    2 s; a client that accepts ``workspace/diagnostic/refresh`` gets the latest results at
+    once and a refresh when the check is done.  (A 3 s debounce stands for a slow check.)"""
+    rid = server.request("initialize", {
+        "processId": None, "rootUri": tmp_path.as_uri(), "initializationOptions": {"debounce": 3},
+        "capabilities": {"textDocument": {"diagnostic": {}}, "workspace": {"diagnostics": {"refreshSupport": True}}}})
+    assert "result" in server.response(rid, 30)
+    server.notify("initialized", {})
+    uri = (tmp_path / "m.tvl").as_uri()
+    _open(server, uri, "root A { group allOf { B, B } }\n", "tvl")
+    t = time.monotonic()
+    rep = server.response(server.request("textDocument/diagnostic", {"textDocument": {"uri": uri}}), 30)
+    assert rep is not None and "result" in rep, rep
+    assert time.monotonic() - t < 2.0
+    end = time.monotonic() + 20
+    while time.monotonic() < end and not any(m.get("method") == "workspace/diagnostic/refresh" for m in server.messages):
+        time.sleep(0.1)
+    assert any(m.get("method") == "workspace/diagnostic/refresh" for m in server.messages)

@@ -9,7 +9,9 @@
 - A request before ``initialize`` gets -32002 ServerNotInitialized; a request after
   ``shutdown`` gets -32600 InvalidRequest (pygls drops both silently).
 - Every request handler is guarded: an internal error is logged and answered with an empty
-  result (:func:`empty_result`), never -32603 and never a missing response.
+  result (:func:`empty_result`), never -32603 and never a missing response.  A deliberate
+  error answer (a handler raising -32602 InvalidParams, an unknown command) is sent as is and
+  logged in one line: a traceback on stderr means a bug, nothing else.
 - ``exit`` records the exit code (0 after ``shutdown``, 1 without, as the LSP says) and stops
   the transport (:mod:`tvl_lsp.lsp.transport`) instead of raising ``SystemExit`` in a handler.
 """
@@ -29,6 +31,7 @@ log = logging.getLogger("tvl_lsp.server")
 
 INVALID_REQUEST = -32600
 INVALID_PARAMS = -32602
+INTERNAL_ERROR = -32603
 SERVER_NOT_INITIALIZED = -32002
 
 _SURROGATE = re.compile("[\ud800-\udfff]")
@@ -138,6 +141,9 @@ class TvlProtocol(LanguageServerProtocol):
             log.warning("not a JSON-RPC 2.0 message: ignored")
             return
         is_request = method is not None and hasattr(message, "id")
+        if is_request and not _valid_id(message.id):  # an object, array, float or boolean id
+            self.reply_error(None, INVALID_REQUEST, "invalid request: the id must be an integer or a string")
+            return
         if method == types.INITIALIZE:
             self.initialize_seen = True
         elif method is not None and method != types.EXIT and not self.initialize_seen:
@@ -151,6 +157,20 @@ class TvlProtocol(LanguageServerProtocol):
         super().handle_message(message)
 
     # ------------------------------------------------------------ the handler guard
+    def _execute_handler(self, msg_id, handler, callback, args=None, kwargs=None):
+        """pygls keeps the future of every handler it runs in ``_request_futures`` (for
+        ``$/cancelRequest``) but only a request's answer removes it: the future of each
+        notification (every ``didChange``) and of each step of a built-in handler stayed for
+        good (a thousand per thousand edits).  A finished handler's future is forgotten."""
+        super()._execute_handler(msg_id, handler, callback, args=args, kwargs=kwargs)
+        fut = self._request_futures.get(msg_id)
+        if fut is not None:
+            def forget(f, msg_id=msg_id):
+                # (a cancelled one is left alone: ``shutdown`` cancels them while iterating)
+                if not f.cancelled() and self._request_futures.get(msg_id) is f:
+                    self._request_futures.pop(msg_id, None)
+            fut.add_done_callback(forget)
+
     def _handle_request(self, msg_id, method_name, params):
         if method_name in self.fm.features or method_name in self.fm.builtin_features:
             self._in_flight[msg_id] = (method_name, params)
@@ -160,7 +180,14 @@ class TvlProtocol(LanguageServerProtocol):
         method, params = self._in_flight.pop(msg_id, (None, None))
         if not future.cancelled():
             exc = future.exception()
-            if exc is not None and not isinstance(exc, JsonRpcException):
+            if isinstance(exc, JsonRpcException) and exc.code != INTERNAL_ERROR:
+                # a deliberate error answer (invalid params, unknown command, ...): the client
+                # gets it and the log one line (pygls would log a traceback, as for a crash)
+                log.info("%s answered with error %s: %s", method, exc.code, exc.message)
+                self._request_futures.pop(msg_id, None)
+                self._send_response(msg_id, error=exc.to_response_error())
+                return
+            if exc is not None and (not isinstance(exc, JsonRpcException) or exc.code == INTERNAL_ERROR):
                 log.error("internal error answering %s (answered with an empty result)", method,
                           exc_info=(type(exc), exc, exc.__traceback__))
                 self._request_futures.pop(msg_id, None)

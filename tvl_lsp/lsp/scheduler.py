@@ -24,7 +24,7 @@ from ..project import budget as file_budget
 from ..project import facts as _facts
 from . import checks
 from .documents import content_key
-from .workers import _consume
+from .workers import _consume, release_memory
 
 FACTS_POLL = 0.3  # seconds: how often the server asks whether a model's compilation is done
 
@@ -163,6 +163,8 @@ class Scheduler:
             self.publish(uri)
             log.info("check of %s: %d diagnostics", path, len(diags))
             self.prefetch_facts(path, kind)
+            if not any(not t.done() for u, t in self._full_tasks.items() if u != uri):
+                release_memory()  # nothing else pending: give the freed heap back
         except asyncio.CancelledError:
             pass
 

@@ -46,7 +46,7 @@ from .documents import DocumentStore
 from .protocol import TvlProtocol
 from .scheduler import Scheduler
 from .settings import Settings
-from .workers import Workers, start_watchdog
+from .workers import Workers, bound_heap, start_watchdog
 
 log = logging.getLogger("tvl_lsp.server")
 
@@ -181,6 +181,7 @@ def main(argv: list[str] | None = None) -> int:
     gc.collect()
     gc.freeze()
     gc.set_threshold(20000, 20, 50)
+    bound_heap()  # big texts come and go as the user types: give their memory back
     if os.environ.get("TVL_LSP_WATCHDOG"):
         start_watchdog(os.environ["TVL_LSP_WATCHDOG"])
     if argv and argv[0] == "--stdio":

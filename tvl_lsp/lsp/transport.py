@@ -61,6 +61,33 @@ def _parses(data: bytes) -> bool:
         return False
 
 
+_TOKEN = re.compile(rb'"(?:[^"\\]|\\.)*"|[{}\[\]]')
+_ID_VALUE = re.compile(rb'[ \t\r\n]*:[ \t\r\n]*(-?[0-9]+|"(?:[^"\\]|\\.)*")[ \t\r\n]*[,}]')
+
+
+def top_level_id(body: bytes):
+    """The ``id`` member (an integer or a string) of the JSON object ``body``, found by a
+    linear scan without recursion (for a message too deeply nested to parse); else None."""
+    if not body.lstrip().startswith(b"{"):
+        return None
+    depth = 0
+    for m in _TOKEN.finditer(body):
+        t = m.group()
+        if t in (b"{", b"["):
+            depth += 1
+        elif t in (b"}", b"]"):
+            depth -= 1
+        elif depth == 1 and t == b'"id"':
+            v = _ID_VALUE.match(body, m.end())
+            if v is None:
+                return None
+            try:
+                return json.loads(v.group(1))
+            except ValueError:
+                return None
+    return None
+
+
 class Chunks:
     """Chunks of bytes from a blocking stream, read by a daemon thread (b"" at the end)."""
 
@@ -234,7 +261,18 @@ class Framer:
         protocol = self.protocol
         try:
             message = json.loads(body, object_hook=protocol.structure_message)
-        except (ValueError, RecursionError) as exc:
+        except RecursionError:
+            # JSON perhaps, but nested deeper than the parser goes: a request still gets its
+            # answer (its id is found without parsing the rest)
+            msg_id = top_level_id(body)
+            if msg_id is not None:
+                complain("a message nested too deeply to read: answered with an invalid request error")
+                self.reply(msg_id, INVALID_REQUEST, "invalid request: the message is nested too deeply")
+            else:
+                complain("a message nested too deeply to read (RecursionError): answered with a parse error")
+                self.reply(None, PARSE_ERROR, "parse error: the message is nested too deeply")
+            return
+        except ValueError as exc:
             complain(f"a message that is not JSON ({exc.__class__.__name__}): answered with a parse error")
             self.reply(None, PARSE_ERROR, "parse error: the message is not JSON")
             return

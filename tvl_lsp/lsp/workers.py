@@ -20,7 +20,7 @@ from typing import Optional
 
 from lsprotocol import types
 
-from .procinit import _warm, _worker_init
+from .procinit import _warm, _worker_init, bound_heap  # noqa: F401 (bound_heap: used from here)
 
 
 class Workers:
@@ -97,6 +97,24 @@ class Workers:
             return await task
         finally:
             self.work_done_progress.end(token, types.WorkDoneProgressEnd(message="done"))
+
+
+_RELEASED = [0.0]
+
+
+def release_memory(every: float = 5.0) -> bool:
+    """Give the free memory at the top and inside the heap back to the system (glibc's
+    ``malloc_trim``), at most every ``every`` seconds: called when the server goes idle, so
+    the peak of a big document's analysis does not stay in its RSS for good."""
+    now = time.monotonic()
+    if now - _RELEASED[0] < every or not sys.platform.startswith("linux"):
+        return False
+    _RELEASED[0] = now
+    try:
+        import ctypes
+        return bool(ctypes.CDLL(None).malloc_trim(0))
+    except (OSError, AttributeError, TypeError):
+        return False
 
 
 def _consume(fut) -> None:

@@ -8,6 +8,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Iterable, Optional
 
+from ..base import formula as fm
 from ..base.text import Pos, Span
 from ..tvl import model as M
 
@@ -159,8 +160,13 @@ def stored_model_facts(path: str, sources: dict[str, str]) -> Optional[ModelFact
 
 
 def count_under(path: str, sources: dict[str, str], formula, timeout: float) -> Optional[int]:
-    """Products of the model in which ``formula`` (over feature names) holds."""
+    """Products of the model in which ``formula`` (over feature names) holds; None when the
+    formula names something the model has no feature for (e.g. a launch file's arg whose
+    feature an edit removed)."""
     eng = _engine(path, sources)
+    known = {eng.name(f) for f in eng.model.features} | {f.name for f in eng.model.features}
+    if not set(fm.variables(formula)) <= known:
+        return None
     return _as_int(eng.count(formula=formula, timeout=timeout))
 
 
@@ -444,13 +450,31 @@ def arg_uses(analysis, path: str, name: str) -> list:
 
 # ------------------------------------------------------------------ configurator (worker process)
 
+class UnknownFeatures(KeyError):
+    """Decisions on features the model does not have (e.g. kept by a host while the model was
+    edited): ``args[0]`` says which."""
+
+
+def _unknown(eng, decisions: dict[str, bool]) -> Optional[str]:
+    known = {eng.name(f) for f in eng.model.features} | {f.name for f in eng.model.features}
+    unknown = sorted(k for k in decisions if k not in known)
+    return f"unknown feature(s): {', '.join(unknown)}" if unknown else None
+
+
+def _split(eng, decisions: dict[str, bool]) -> tuple[list[str], list[str]]:
+    """(included, excluded) names; :class:`UnknownFeatures` when the model lacks one."""
+    error = _unknown(eng, decisions)
+    if error:
+        raise UnknownFeatures(error)
+    return [k for k, v in decisions.items() if v], [k for k, v in decisions.items() if not v]
+
+
 def configure(path: str, sources: dict[str, str], decisions: dict[str, bool], timeout: float) -> dict:
     """Propagate the configurator's decisions: forced features, conflict, remaining count."""
     eng = _engine(path, sources)
-    known = {eng.name(f) for f in eng.model.features} | {f.name for f in eng.model.features}
-    unknown = sorted(k for k in decisions if k not in known)
-    if unknown:
-        return {"error": f"unknown feature(s): {', '.join(unknown)}", "decisions": decisions}
+    error = _unknown(eng, decisions)
+    if error:
+        return {"error": error, "decisions": decisions}
     p = eng.propagate(decisions, count=True, timeout=timeout)
     return {
         "decisions": dict(p.decisions),
@@ -465,8 +489,7 @@ def configure(path: str, sources: dict[str, str], decisions: dict[str, bool], ti
 def list_products(path: str, sources: dict[str, str], decisions: dict[str, bool], limit: int,
                   timeout: float) -> dict:
     eng = _engine(path, sources)
-    inc = [k for k, v in decisions.items() if v]
-    exc = [k for k, v in decisions.items() if not v]
+    inc, exc = _split(eng, decisions)
     names = [eng.name(f) for f in eng.model.features]
     prods = []
     for p in eng.enumerate(limit=limit, include=inc, exclude=exc):
@@ -485,8 +508,7 @@ def generation_products(path: str, sources: dict[str, str], decisions: dict[str,
     decisions), ``completions`` (every product respecting them), ``all`` (every product) or
     ``sample`` (a ``t``-wise covering sample of the products respecting them)."""
     eng = _engine(path, sources)
-    inc = [k for k, v in decisions.items() if v]
-    exc = [k for k, v in decisions.items() if not v]
+    inc, exc = _split(eng, decisions)
     if mode == "sample":
         products, _ = eng.sample(t=t, seed=seed, include=inc, exclude=exc)
         return products

@@ -55,7 +55,10 @@ def model_of(ls, path: str) -> str:
 
 async def _in_worker(ls, fn, *args, title: Optional[str] = None):
     async def run():
-        return await asyncio.wrap_future(ls.proc_pool.submit(fn, *args))
+        try:
+            return await asyncio.wrap_future(ls.proc_pool.submit(fn, *args))
+        except F.UnknownFeatures as e:  # decisions the edited model no longer has
+            raise JsonRpcInvalidParams(f"{e.args[0]}: reset them (tvl-lsp.reset)")
     if title:
         return await ls.with_progress(title, run())
     return await run()
@@ -136,7 +139,8 @@ def register(ls) -> None:
         except (OSError, ValueError):
             pass
         return {"text": doc.text if doc else None, "version": doc.version if doc else None,
-                "rss": rss, "documents": len(ls.docs), "cache": len(ls.cache)}
+                "rss": rss, "documents": len(ls.docs), "cache": len(ls.cache),
+                "handlers": len(ls.protocol._request_futures)}
 
 
 def _feature_arg(args) -> str:

@@ -1,9 +1,13 @@
 """Pull diagnostics (``textDocument/diagnostic``) for clients that advertise them; the
-push side is the server's scheduler (``TvlLanguageServer.schedule``)."""
+push side is the server's scheduler (``TvlLanguageServer.schedule``).  Answered within
+:data:`PULL_WAIT` when the client supports ``workspace/diagnostic/refresh`` (the server asks
+it to pull again once a pending check is done)."""
 
 from __future__ import annotations
 
 from lsprotocol import types
+
+PULL_WAIT = 1.0  # seconds a pull waits for a pending check when the client accepts refreshes
 
 
 def register(ls) -> None:
@@ -15,7 +19,11 @@ def register(ls) -> None:
         doc = ls.docs.get(uri)
         if doc is None or doc.kind is None:
             return types.RelatedFullDocumentDiagnosticReport(items=[])
-        res = await ls.wait_full(uri, ls.settings.time_budget + 1)
+        # a client that can be told to pull again gets an answer at once (the latest results:
+        # the syntax pass, or the last full check) and a refresh when the full check lands
+        # (publish); one that cannot waits for the solver-backed check, within its budget
+        refresh = ls.cap("workspace.diagnostics.refresh_support", False)
+        res = await ls.wait_full(uri, PULL_WAIT if refresh else ls.settings.time_budget + 1)
         doc = ls.docs.get(uri)
         if doc is None:
             return types.RelatedFullDocumentDiagnosticReport(items=[])

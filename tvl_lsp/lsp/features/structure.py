@@ -3,6 +3,7 @@ tokens for TVL."""
 
 from __future__ import annotations
 
+import bisect
 import re
 
 from lsprotocol import types
@@ -152,30 +153,76 @@ def tvl_folding(model, path: str, text: str):
 _TAG = re.compile(r"<!--.*?-->|<(/?)([\w\-]+)(?:[^<>\"']|\"[^\"]*\"|'[^']*')*?(/?)>", re.S)
 
 
+_NAME = re.compile(r"[\w\-]+")
+_SPECIAL = re.compile(r"[<>\"']")
+
+
+def xml_tags(text: str):
+    """``(start, end, close, tag, selfclose)`` of each comment (tag None) and tag of ``text``,
+    as :data:`_TAG`'s ``finditer`` finds them, in linear time: the regex rescans a quoted
+    value or an unclosed comment from every ``<`` before it (a 50,000-character line of
+    broken tags: 7 s of folding on the event loop, found by bench/bench_server_fuzz.py)."""
+    specials = [m.start() for m in _SPECIAL.finditer(text)]
+    quotes = {q: [i for i in specials if text[i] == q] for q in "\"'"}
+    comment_ends = True  # False once a "<!--" has no "-->" after it: no later one has
+    i, n = text.find("<"), len(text)
+    while 0 <= i < n:
+        if text.startswith("<!--", i):
+            e = text.find("-->", i + 4) if comment_ends else -1
+            if e >= 0:
+                yield i, e + 3, "", None, ""
+                i = text.find("<", e + 3)
+                continue
+            comment_ends = False
+        close = "/" if text.startswith("/", i + 1) else ""
+        m = _NAME.match(text, i + 1 + len(close))
+        end = None
+        if m:
+            k = bisect.bisect_left(specials, m.end())
+            while k < len(specials):
+                j = specials[k]
+                c = text[j]
+                if c == "<":
+                    break
+                if c == ">":
+                    end = j + 1
+                    break
+                qs = quotes[c]
+                q = bisect.bisect_right(qs, j)
+                if q >= len(qs):
+                    break
+                k = bisect.bisect_right(specials, qs[q])
+        if end is not None:
+            selfclose = "/" if end - 2 >= m.end() and text[end - 2] == "/" else ""
+            yield i, end, close, m.group(0), selfclose
+            i = text.find("<", end)
+        else:
+            i = text.find("<", i + 1)
+
+
 def launch_folding(text: str):
     index = LineIndex(text)
     out = []
     stack = []
-    for m in _TAG.finditer(text):
-        if m.group(0).startswith("<!--"):
-            s = index.span(m.start(), m.end())
+    for start, end, close, tag, selfclose in xml_tags(text):
+        if tag is None:
+            s = index.span(start, end)
             if s.end.line > s.start.line:
                 out.append(types.FoldingRange(start_line=s.start.line, end_line=s.end.line,
                                               kind=types.FoldingRangeKind.Comment))
             continue
-        close, tag, selfclose = m.group(1), m.group(2), m.group(3)
         if close:
             while stack:
-                t, start = stack.pop()
+                t, opened = stack.pop()
                 if t == tag:
-                    a, b = index.pos(start).line, index.pos(m.start()).line
+                    a, b = index.pos(opened).line, index.pos(start).line
                     if b > a:
                         out.append(types.FoldingRange(start_line=a, end_line=b))
                     break
         elif not selfclose:
-            stack.append((tag, m.start()))
+            stack.append((tag, start))
         else:
-            s = index.span(m.start(), m.end())
+            s = index.span(start, end)
             if s.end.line > s.start.line:
                 out.append(types.FoldingRange(start_line=s.start.line, end_line=s.end.line))
     return sorted(out, key=lambda r: (r.start_line, r.end_line))
