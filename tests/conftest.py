@@ -158,3 +158,18 @@ def models_dir(request: pytest.FixtureRequest, corpus_dir: Path) -> Path:
     if not path.is_dir():
         pytest.skip(f"no models folder at {path}: give --models=DIR (on our machines ../shared/models)")
     return path
+
+
+@pytest.fixture
+def fresh_cache(tmp_path, monkeypatch):
+    """An empty counting cache folder for the test, and no count in memory or on record."""
+    from tvl_lsp.analysis.counting import service as S
+    from tvl_lsp.project import models
+    monkeypatch.setenv("TVL_LSP_CACHE_DIR", str(tmp_path / "cache"))
+    S.MEMORY.clear()
+    S.forget_failures()
+    models.clear()
+    yield tmp_path / "cache"
+    S.MEMORY.clear()
+    S.forget_failures()
+    models.clear()

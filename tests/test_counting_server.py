@@ -30,18 +30,6 @@ ROBOT = REPO / "tests" / "data" / "uvl" / "robot.uvl"
 EXAMPLE = REPO / "examples" / "ws" / "src" / "turtlerand" / "launch" / "generic.tvl"
 
 
-@pytest.fixture
-def fresh_cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("TVL_LSP_CACHE_DIR", str(tmp_path / "cache"))
-    S.MEMORY.clear()
-    S.forget_failures()
-    models.clear()
-    yield tmp_path / "cache"
-    S.MEMORY.clear()
-    S.forget_failures()
-    models.clear()
-
-
 def load(path: Path) -> ModelAnalysis:
     res = parse_any_model(path.read_text(), str(path))
     assert not res.errors, res.errors

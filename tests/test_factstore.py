@@ -24,15 +24,8 @@ CARDS = REPO / "tests" / "data" / "counting" / "cards.tvl"
 
 
 @pytest.fixture
-def cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("TVL_LSP_CACHE_DIR", str(tmp_path / "cache"))
-    S.MEMORY.clear()
-    S.forget_failures()
-    models.clear()
-    yield tmp_path / "cache"
-    S.MEMORY.clear()
-    S.forget_failures()
-    models.clear()
+def cache(fresh_cache):
+    return fresh_cache
 
 
 def _src(path: Path, text: str | None = None) -> dict[str, str]:

@@ -75,14 +75,15 @@ def _facts_files(cache: Path) -> list[Path]:
     return sorted(cache.glob("*.facts"))
 
 
-async def test_reopened_model_hover_is_counted_at_once_and_edits_are_never_stale(tmp_path):
+async def _robot_counted_once(tmp_path: Path):
+    """A workspace with robot.uvl, counted (and its facts stored) by a first server that has
+    stopped since: (workspace, model, cache folder, position of Kobuki)."""
     ws = tmp_path / "ws"
     ws.mkdir()
     model = ws / "robot.uvl"
     model.write_text(ROBOT_UVL)
     cache = tmp_path / "cache"
     pos = position_of(ROBOT_UVL, "Kobuki", offset=1)
-
     first = await _server(cache, ws)
     try:
         uri = open_doc(first, model)
@@ -90,7 +91,11 @@ async def test_reopened_model_hover_is_counted_at_once_and_edits_are_never_stale
     finally:
         await first.shutdown_session()
     assert _facts_files(cache), "the counted facts were not stored"
+    return ws, model, cache, pos
 
+
+async def test_reopened_model_hover_is_counted_at_once_and_edits_are_never_stale(tmp_path):
+    ws, model, cache, pos = await _robot_counted_once(tmp_path)
     # a fresh server: the very first hover that finds the feature has its count
     again = await _server(cache, ws)
     try:
@@ -116,18 +121,7 @@ async def test_reopened_model_hover_is_counted_at_once_and_edits_are_never_stale
 async def test_a_stored_file_of_another_text_is_not_used(tmp_path):
     """The model opened with a text that differs from the stored one (edited on disk while
     no server ran): counted for its own text."""
-    ws = tmp_path / "ws"
-    ws.mkdir()
-    model = ws / "robot.uvl"
-    model.write_text(ROBOT_UVL)
-    cache = tmp_path / "cache"
-    pos = position_of(ROBOT_UVL, "Kobuki", offset=1)
-    first = await _server(cache, ws)
-    try:
-        uri = open_doc(first, model)
-        assert "of 6 products" in await _counted_hover(first, uri, pos, "of 6 products")
-    finally:
-        await first.shutdown_session()
+    ws, model, cache, pos = await _robot_counted_once(tmp_path)
     edited = ROBOT_UVL.replace("Arm => Kobuki", "Camera => Create")
     model.write_text(edited)
     second = await _server(cache, ws)

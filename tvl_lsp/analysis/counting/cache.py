@@ -65,6 +65,14 @@ def _safe_name(name: str) -> bool:
     return bool(name) and not name.startswith(".") and all(c.isalnum() or c in "._-" for c in name)
 
 
+
+def _touch(p: Path) -> None:
+    """Mark a cache file used now: the least recently *used* files are evicted first."""
+    try:
+        os.utime(p)
+    except OSError:
+        pass
+
 class DiskCache:
     def __init__(self, folder: Optional[Path] = None, limit: Optional[int] = None):
         self._folder = folder
@@ -116,10 +124,7 @@ class DiskCache:
             text = p.read_text()
         except (OSError, UnicodeDecodeError):
             return None
-        try:
-            os.utime(p)  # least recently *used* goes first
-        except OSError:
-            pass
+        _touch(p)
         return text
 
     def put(self, key: str, text: str, count: Optional[int] = None) -> Optional[Path]:
@@ -165,10 +170,7 @@ class DiskCache:
             return None
         if len(data) > BLOB_MAX_BYTES:
             return None
-        try:
-            os.utime(p)  # least recently *used* goes first
-        except OSError:
-            pass
+        _touch(p)
         return data
 
     def put_blob(self, name: str, data: bytes) -> Optional[Path]:
