@@ -136,6 +136,41 @@ def test_a_megabyte_of_malformed_tags_is_checked_quickly_with_few_lines(ws):
     assert "xml-syntax" in codes(diags)
 
 
+def test_an_element_of_a_hundred_thousand_attributes_is_read_up_to_the_limit(ws):
+    """lxml lists an element's attributes in quadratic time (300,000 took minutes); tvl-lsp
+    reads the first MAX_ATTRIBUTES and says so, on the tag."""
+    from tvl_lsp.launch.xml import MAX_ATTRIBUTES
+    f = ws / "src" / "hostile" / "launch" / "attributes.launch"
+    f.write_text('<launch>\n  <node pkg="p" type="t" name="n" '
+                 + " ".join(f'a{i}="v"' for i in range(100_000)) + "/>\n</launch>\n")
+    rc, diags, _ = check(f)
+    big = [d for d in diags if d["code"] == "launch-file-too-large"]
+    assert rc == 1 and len(big) == 1, big
+    assert f"100,003 attributes" in big[0]["message"] and f"first {MAX_ATTRIBUTES:,}" in big[0]["message"]
+    assert (big[0]["range"]["start"], big[0]["range"]["end"]) == ({"line": 1, "character": 3},
+                                                                  {"line": 1, "character": 7})
+    # the first ones are read: 997 unknown attributes (a0 ... a996) after pkg, type and name
+    assert len([d for d in diags if d["code"] == "unknown-attribute"]) == MAX_ATTRIBUTES - 3
+
+
+@pytest.mark.parametrize("name", ["big.launch", "big.launch.xml", "big.launch.yaml"])
+def test_a_launch_file_over_two_million_characters_is_refused_at_once(ws, name):
+    """Real launch files have ~20,000 characters at most; the front ends spend microseconds per
+    character of a value (YAML, shlex, substitutions): 18 MB of YAML took 29 s before."""
+    from tvl_lsp.launch.xml import MAX_TEXT
+    f = ws / "src" / "hostile" / "launch" / name
+    if name.endswith(".yaml"):
+        f.write_text("launch:\n" + "".join(f"- node:\n    pkg: p\n    exec: e\n    name: n{i}\n    args: '{'y' * 2000}'\n"
+                                           for i in range(1100)))
+    else:
+        f.write_text("<launch>\n" + "".join(f'  <node pkg="p" type="t" name="n{i}" args="{"y" * 2000}"/>\n'
+                                              for i in range(1100)) + "</launch>\n")
+    assert len(f.read_text()) > MAX_TEXT
+    rc, diags, _ = check(f)
+    assert rc == 1 and [d["code"] for d in diags] == ["launch-file-too-large"], diags
+    assert f"at most {MAX_TEXT:,} characters" in diags[0]["message"]
+
+
 def test_repeated_diagnostics_are_collapsed(ws):
     f = ws / "src" / "hostile" / "launch" / "dups.launch"
     f.write_text("<launch>\n" + '  <node pkg="a" type="b" name="x"/>\n' * (MAX_SAME_CODE + 300) + "</launch>\n")

@@ -24,9 +24,12 @@ XML_TOO_LARGE = register("launch-file-too-large", Severity.ERROR,
 XML_TOO_DEEP = register("launch-too-deep", Severity.ERROR,
                         "Elements are nested too deeply to analyse", "launch")
 
-MAX_TEXT = 20_000_000      # characters
+MAX_TEXT = 2_000_000       # characters (the biggest real launch files have ~20,000; the front ends
+                           # spend a few microseconds per character of a value: YAML, shlex, $(...))
 MAX_DEPTH = 100            # element nesting analysed
 MAX_ELEMENTS = 10_000      # elements analysed (real launch files have hundreds at most)
+MAX_ATTRIBUTES = 1_000     # attributes read per element (roslaunch's tags take a dozen at most;
+                           # lxml lists an element's attributes in quadratic time: 40,000 take 6 s)
 
 
 @dataclass
@@ -233,8 +236,8 @@ def parse_xml(text: str, path: str) -> XmlDoc:
     diags: list[Diagnostic] = []
     if len(text) > MAX_TEXT:
         diags.append(Diagnostic(XML_TOO_LARGE, Severity.ERROR, path, index.span(0, 0),
-                                f"the file has {len(text)} characters; tvl-lsp analyses launch files of at most "
-                                f"{MAX_TEXT} characters"))
+                                f"the file has {len(text):,} characters; tvl-lsp analyses launch files of at most "
+                                f"{MAX_TEXT:,} characters"))
         return XmlDoc(path, text, index, None, diags, refused=True)
     m = _ENTITY_DECL.search(text)
     if m:
@@ -336,7 +339,16 @@ def _build(root_el, raw: list[_RawTag], text: str, index: LineIndex, path: str,
                         index.pos(index.line_end(min(line, len(index.starts) - 1))))
             tag_span = span
             raw_attrs = {}
-        for k, v in el.attrib.items():
+        n_attrs = len(el.attrib)
+        if n_attrs > MAX_ATTRIBUTES:
+            diags.append(Diagnostic(XML_TOO_LARGE, Severity.ERROR, path, tag_span,
+                                    f"<{tag}> has {n_attrs:,} attributes: tvl-lsp reads the first "
+                                    f"{MAX_ATTRIBUTES:,} of an element (roslaunch's tags take a dozen at most)"))
+            keys = [a[0] for a in rt.attrs[:MAX_ATTRIBUTES]] if rt is not None else []
+            pairs = [(k, v) for k in keys if (v := el.get(k)) is not None]
+        else:
+            pairs = el.attrib.items()
+        for k, v in pairs:
             a = raw_attrs.get(k)
             if a is not None:
                 name_span = index.span(a[1], a[2])

@@ -420,7 +420,7 @@ def parse_yaml_launch(text: str, path: str) -> Document:
     idx = LineIndex(text)
     out = Document(path, text, idx, None, [], kind="yaml")
     if len(text) > MAX_TEXT:
-        msg = f"the file has {len(text)} characters; tvl-lsp analyses launch files of at most {MAX_TEXT} characters"
+        msg = f"the file has {len(text):,} characters; tvl-lsp analyses launch files of at most {MAX_TEXT:,} characters"
         out.diagnostics.append(Diagnostic(XML_TOO_LARGE, Severity.ERROR, path, idx.span(0, 0), msg))
         out.error = ("ParseError", msg, idx.span(0, 0))
         return out

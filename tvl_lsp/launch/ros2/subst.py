@@ -92,9 +92,11 @@ class _Parser:
                 sub, i = self.substitution(i, None)
                 out.append(sub)
                 continue
-            j = i
-            while j < self.n and not self.starts_sub(j):
-                j += 1
+            j = s.find("$(", i + 1)  # the next unescaped "$(" (a jump, not a loop per character)
+            while j > 0 and s[j - 1] == "\\":
+                j = s.find("$(", j + 1)
+            if j < 0:
+                j = self.n
             out.append(Text(unescape(s[i:j]), i, j))
             i = j
         return out
