@@ -55,6 +55,7 @@ class Scheduler:
         self._facts_queued: dict[str, tuple] = {}
         self._facts_submitted: dict[str, asyncio.Event] = {}  # set once a count is in a pool's queue
         self._facts_lookups: dict[str, asyncio.Future] = {}  # content key -> read of the stored facts
+        self._trim_handle: Optional[asyncio.TimerHandle] = None  # a memory trim waiting for idle checks
 
     # ------------------------------------------------------------ scheduling
     def schedule(self, uri: str, syntax: bool = True) -> None:
@@ -174,7 +175,7 @@ class Scheduler:
         """Give the freed heap back to the system: now, or -- when the last trim was too recent
         -- once the throttle allows and the checks are still idle.  The last check of a burst of
         edits must not leave its peak in the server's RSS for good (bench_server_fuzz.py)."""
-        if getattr(self, "_trim_handle", None) is not None:
+        if self._trim_handle is not None:
             return
         if release_memory():
             return

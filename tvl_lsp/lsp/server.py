@@ -46,7 +46,8 @@ from .documents import DocumentStore
 from .protocol import TvlProtocol
 from .scheduler import Scheduler
 from .settings import Settings
-from .workers import Workers, bound_heap, start_watchdog
+from .procinit import bound_heap
+from .workers import Workers, start_watchdog
 
 log = logging.getLogger("tvl_lsp.server")
 

@@ -20,7 +20,8 @@ from typing import Optional
 
 from lsprotocol import types
 
-from .procinit import _warm, _worker_init, bound_heap  # noqa: F401 (bound_heap: used from here)
+from ..base.pools import kill_pool
+from .procinit import _warm, _worker_init
 
 
 class Workers:
@@ -58,7 +59,7 @@ class Workers:
     def restart_check_pool(self) -> None:
         with self._proc_lock:
             pool, self._check_pool = self._check_pool, None
-        _kill_pool(pool)
+        kill_pool(pool)
 
     def warm_up(self) -> None:
         """Start the worker processes now, so the first check / count does not pay for it."""
@@ -71,7 +72,7 @@ class Workers:
     def restart_proc_pool(self) -> None:
         with self._proc_lock:
             pool, self._proc_pool = self._proc_pool, None
-        _kill_pool(pool)
+        kill_pool(pool)
 
     # ------------------------------------------------------------ progress
     async def with_progress(self, title: str, coro):
@@ -121,20 +122,6 @@ def _consume(fut) -> None:
     """Retrieve a future's exception so that asyncio does not log it as never retrieved."""
     if not fut.cancelled():
         fut.exception()
-
-
-def _kill_pool(pool) -> None:
-    if pool is None:
-        return
-    try:
-        for p in list((getattr(pool, "_processes", None) or {}).values()):
-            p.kill()
-    except Exception:
-        pass
-    try:
-        pool.shutdown(wait=True, cancel_futures=True)  # quick: its processes are gone
-    except Exception:
-        pass
 
 
 def start_watchdog(path: str, threshold: float = 0.3) -> None:

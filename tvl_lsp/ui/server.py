@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Optional
 from urllib.parse import parse_qs, urlsplit
 
+from ..base.pools import kill_pool
 from ..configurator import Session, SessionError, configurable_models
 from ..configurator import api
 from ..project.workspace import find_workspace_root, is_launch, is_model, norm
@@ -113,12 +114,7 @@ class App:
         with self.pool_lock:
             self.closed = True
             pool, self.pool = self.pool, None
-        if pool is not None:
-            procs = list((getattr(pool, "_processes", None) or {}).values())
-            pool.shutdown(wait=False, cancel_futures=True)
-            for p in procs:
-                if p.is_alive():
-                    p.kill()
+        kill_pool(pool)
 
     def session(self, model: Optional[str]) -> Session:
         if not isinstance(model, str) or not model:
