@@ -58,6 +58,9 @@ def main(argv: list[str] | None = None) -> int:
     from_console = argv is None
     argv = list(sys.argv[1:] if argv is None else argv)
     one_shot = bool(argv) and (argv[0] in _ONE_SHOT or argv[0] == "--explain" or "--check" in argv)
+    if from_console and one_shot and ("--check" in argv or argv[0] == "check"):
+        from .project import check
+        check.KEEP_LAST = True  # the last file's models are left for os._exit to drop
     code = _main(argv)
     if from_console and one_shot:
         _exit_now(code)

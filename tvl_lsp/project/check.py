@@ -282,7 +282,16 @@ class _Unit:
     cpu_budget: Optional[float] = budget.CPU_SECONDS  # CPU seconds per file (see budget.py)
 
 
+# A process that ends right after its check (the ``--check`` command) sets KEEP_LAST: the last
+# unit's models are then left for the process's end instead of being freed one object at a time
+# (0.8-1.2 s of a 200,000-feature model's check).  The previous unit's are freed when the next
+# starts, so the peak memory is the same.
+KEEP_LAST = False
+_KEPT: list = []
+
+
 def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnostic]:
+    _KEPT.clear()
     read_file = read_file or default_read_file
     out: list[Diagnostic] = []
     models: dict = {}
@@ -307,6 +316,10 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
                 out.append(_internal(lf, f"check failed: {exc!r}"))
     except Exception as exc:
         out.append(_internal(unit.model or "", f"check failed: {exc!r}"))
+    if KEEP_LAST:
+        import gc
+        _KEPT.append(models)
+        gc.freeze()  # kept objects are not rescanned by the collector either
     return out
 
 
