@@ -137,3 +137,14 @@ def test_modules_are_small():
 def test_server_is_thin():
     n = _lines(PACKAGE / "lsp" / "server.py")
     assert n <= MAX_SERVER_LINES, f"tvl_lsp/lsp/server.py has {n} lines (at most {MAX_SERVER_LINES})"
+
+
+def test_every_sat_solver_is_interruptible():
+    """pysat's solvers run in C, where the CPU budget's timer cannot stop them: every solver the
+    package creates is ``analysis/sat.py``'s ``BoundedSolver`` (issue 12: a 1 KB pigeonhole
+    DIMACS kept ``--check`` busy for hours)."""
+    import re
+    direct = re.compile(r"from pysat\.solvers import[^\n]*\bSolver\b|pysat\.solvers\.Solver\(")
+    bad = [str(p.relative_to(REPO)) for p in PACKAGE.rglob("*.py")
+           if p.name != "sat.py" and direct.search(p.read_text(encoding="utf-8"))]
+    assert bad == []

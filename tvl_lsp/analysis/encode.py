@@ -440,7 +440,7 @@ class Encoding(DistributeMixin):
         it mentions no feature but its owner and holds both with and without its owner, leave
         it out -- its values are existentially quantified anyway, and big one-hot domains slow
         the projected counts down for nothing."""
-        from pysat.solvers import Solver
+        from .sat import BoundedSolver as Solver
         for f in self.features:
             for a in f.attributes:
                 if id(a) in self._attr_terms:

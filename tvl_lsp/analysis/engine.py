@@ -160,11 +160,20 @@ class ModelAnalysis:
 
     # ------------------------------------------------------------------ anomalies
     @_locked
-    def anomalies(self, time_budget: Optional[float] = 10.0) -> list[Diagnostic]:
+    def anomalies(self, time_budget: Optional[float] = 10.0, hard_budget: Optional[float] = None) -> list[Diagnostic]:
+        """Void model, dead and false-optional features, redundant and always-false constraints,
+        each explained.  ``time_budget``: seconds for the explanations (finding the anomalies gets
+        at least ``MIN_DETECTION``); ``hard_budget``: seconds from now (the encoding included)
+        that nothing passes, the search stops and says so (a caller's own budget)."""
+        t0 = time.monotonic()
         enc = self.encoding
         an = self.analyzer
         start = time.monotonic()
+        if hard_budget is not None:
+            time_budget = hard_budget if time_budget is None else min(time_budget, hard_budget)
         deadline = None if time_budget is None else start + time_budget
+        if hard_budget is not None:
+            deadline = min(deadline, t0 + hard_budget)
         out: list[Diagnostic] = list(enc.diagnostics())
 
         def related(ex: Optional[Explanation]) -> list[Related]:
@@ -209,6 +218,9 @@ class ModelAnalysis:
         # the budget is the explanations'; finding the anomalies gets at least MIN_DETECTION s
         # (milliseconds on ordinary models), then stops and says so rather than overrun
         detect_by = None if time_budget is None else start + max(time_budget, MIN_DETECTION)
+        if hard_budget is not None:
+            detect_by = min(detect_by, t0 + hard_budget)
+        detect_secs = None if detect_by is None else max(0.0, detect_by - start)
         bb = an.backbone(detect_by)
         fo = (an.false_optional(detect_by) if self.model.format != "dimacs" else []) if bb is not None else None
         if bb is None or fo is None:
@@ -217,9 +229,9 @@ class ModelAnalysis:
                 ANOMALY_BUDGET, Severity.INFORMATION, root.path if root else self.model.path,
                 root.name_span if root else ZERO_SPAN,
                 f"The search for {'dead and ' if bb is None else ''}false-optional features ran out of its "
-                f"time budget ({max(time_budget, MIN_DETECTION):g} s) on this model of {enc.n_features:,} features: "
+                f"time budget ({detect_secs:.3g} s) on this model of {enc.n_features:,} features: "
                 f"{'none are' if bb is None else 'false-optional features are not'} reported "
-                "(the editor's count.timeBudget setting raises the budget)"))
+                "(the editor's count.timeBudget setting, or `--budget` for `--check`, raises the budget)"))
         for f in (an.dead() if bb is not None else []):
             ex = explain([v[f]])
             if ex is not None and any(_reported(e) for e in ex.elements):

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from typing import Iterable, Iterator, Optional, Sequence
 
 from pysat.card import ITotalizer
-from pysat.solvers import Solver
+from .sat import BoundedSolver as Solver
 
 from ..base import formula as fm
 from ..tvl import model as M

@@ -168,7 +168,7 @@ def _build_table(logic: GraphLogic, projected: Optional[list[str]]) -> Optional[
         feats = [enc.name_of(f) for f in enc.features] if projected is None else \
             [n for n in projected if logic.is_feature(n)]
         fvars = [enc.var(n) for n in feats]
-        from pysat.solvers import Solver
+        from ..analysis.sat import BoundedSolver as Solver
         s = Solver(name="minisat22", bootstrap_with=enc.clauses())
         rows: list[tuple] = []
         try:

@@ -32,6 +32,11 @@ BUDGET_EXCEEDED = register(
 
 CPU_SECONDS = 30.0            # per file, CPU time (the SAT analyses have their own, smaller budgets)
 MEMORY_BYTES = 3 * 1024 ** 3  # per process, data segment
+# ``--check`` (a CI job, one process): every file is done in seconds and well under 1 GB, the
+# biggest industrial models included (automotive2_1: 2-3.5 s, 460 MB); a hostile or
+# pathological file (a hard SAT instance, a model far beyond any real one) stops there
+CHECK_CPU_SECONDS = 4.0
+CHECK_MEMORY_BYTES = 850 * 1024 ** 2
 
 T = TypeVar("T")
 
@@ -99,27 +104,97 @@ def _cpu_budget(seconds: Optional[float]):
             signal.setitimer(signal.ITIMER_PROF, *prev)
 
 
-def exceeded(path: str, what: str) -> Diagnostic:
+def exceeded(path: str, what: str, done: Optional[str] = None, rest: Optional[str] = None) -> Diagnostic:
+    """The ``analysis-budget-exceeded`` error of ``path``; ``done``: what was completed and is
+    reported all the same (e.g. "its syntax and type checks"), ``rest``: what was stopped."""
+    if done:
+        tail = (f"; {done} are complete and reported, {rest or 'the rest'} was stopped (`--budget SECONDS` "
+                "raises the budget of `--check`)")
+    else:
+        tail = ("; the other files were checked (simplify or split it, or raise the budget: "
+                "`--budget SECONDS` for `--check`)")
     return Diagnostic(BUDGET_EXCEEDED, Severity.ERROR, path, Span(Pos(0, 0), Pos(0, 0)),
                       f"{os.path.basename(path)} was not fully checked: its analysis needed {what}, more than "
-                      "its budget; the other files were checked (simplify or split it, or report it if it is small)")
+                      f"its budget{tail}")
 
 
-def limited(path: str, run: Callable[[], list], seconds: Optional[float] = CPU_SECONDS) -> list:
-    """``run()`` (one file's check, a list of diagnostics) within the budget, or a list with one
-    ``analysis-budget-exceeded`` diagnostic for ``path``."""
+class Progress:
+    """What a check has finished before its budget ran out: ``diagnostics`` are final and are
+    reported with the ``analysis-budget-exceeded`` error, ``done`` says what they cover."""
+    __slots__ = ("diagnostics", "done", "rest")
+
+    def __init__(self):
+        self.diagnostics: list[Diagnostic] = []
+        self.done: Optional[str] = None   # what the diagnostics cover ("its syntax and type checks")
+        self.rest: Optional[str] = None   # what comes after it ("the search for anomalies (...)")
+
+
+RESERVE_BYTES = 32 * 1024 * 1024  # address space held back for the handling of a MemoryError
+
+
+def _reserve():
+    """An untouched private mapping of ``RESERVE_BYTES`` (it counts towards ``RLIMIT_DATA`` but
+    not towards the resident memory): released when an allocation fails, it leaves room to
+    unwind and report.  Without it Python had no memory left to handle the ``MemoryError`` and
+    aborted ("Fatal Python error") in one run out of two."""
+    try:
+        import mmap
+        return mmap.mmap(-1, RESERVE_BYTES, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
+    except (ImportError, OSError, ValueError, AttributeError):
+        return None
+
+
+def remaining() -> Optional[float]:
+    """CPU seconds left to the current :func:`limited` block on this thread (None: no limit)."""
+    from ..analysis.sat import remaining as _remaining
+    return _remaining()
+
+
+def limited(path: str, run: Callable[[], list], seconds: Optional[float] = CPU_SECONDS,
+            progress: Optional[Progress] = None, keep: Optional[list] = None) -> list:
+    """``run()`` (one file's check, a list of diagnostics) within the budget, or, past it, the
+    diagnostics ``progress`` collected and one ``analysis-budget-exceeded`` error for ``path``.
+    Solver calls (C code, which the CPU timer cannot interrupt) are stopped at the same budget
+    (:func:`tvl_lsp.analysis.sat.cpu_limit`).  ``keep``: a list the stopped check's exception
+    (and so its frames' objects) is appended to, for a process that ends soon to drop at once."""
+    from ..analysis.sat import SolverInterrupted, cpu_limit
     # the cyclic garbage collector is paused for the file (the front ends and the encoder build
     # millions of small objects and few cycles: on a 200,000-feature model its rescans of the
     # growing heap cost more than the analysis); what a check leaves is collected after it
     was_enabled = gc.isenabled()
     gc.disable()
-    try:
-        with _cpu_budget(seconds):
+    reserve = [_reserve()]
+
+    def guarded() -> list:
+        try:
             return run()
-    except BudgetExceeded as exc:
-        return [exceeded(path, exc.what)]
-    except MemoryError:
-        return [exceeded(path, "more memory than it may use")]
+        except MemoryError:
+            if reserve[0] is not None:  # room to unwind, before anything else allocates
+                reserve[0].close()
+                reserve[0] = None
+            raise
+
+    what = None
+    try:
+        with cpu_limit(seconds if threading.current_thread() is threading.main_thread() else None), \
+                _cpu_budget(seconds):
+            return guarded()
+    except MemoryError as exc:
+        what = "more memory than it may use"
+        if keep is not None:
+            keep.append(exc)
+    except (BudgetExceeded, SolverInterrupted) as exc:
+        what = str(exc) if isinstance(exc, SolverInterrupted) else exc.what
+        if keep is not None:
+            keep.append(exc)
     finally:
+        if reserve[0] is not None:
+            reserve[0].close()
+        if keep is not None:
+            gc.freeze()  # what the check made is dropped at the end, not scanned by the collector first
         if was_enabled:
             gc.enable()
+    got = list(progress.diagnostics) if progress is not None else []
+    if progress is None:
+        return [exceeded(path, what)]
+    return got + [exceeded(path, what, progress.done, progress.rest)]

@@ -61,8 +61,12 @@ class _ModelInfo:
     has_errors: bool
 
 
+SAT_RESERVE = 0.3  # CPU seconds of a file's budget kept from its anomaly search (to report)
+
+
 def _load_model(path: str, read_file: ReadFile, text: Optional[str] = None,
-                anomalies: bool = True, timeout: Optional[float] = 10.0) -> Optional[_ModelInfo]:
+                anomalies: bool = True, timeout: Optional[float] = 10.0,
+                progress: Optional[budget.Progress] = None) -> Optional[_ModelInfo]:
     from . import models
     if text is None:
         text = read_file(path)
@@ -72,9 +76,18 @@ def _load_model(path: str, read_file: ReadFile, text: Optional[str] = None,
     res, analysis = models.load(path, text, read_file)
     diags = list(res.diagnostics)
     has_errors = any(d.severity == Severity.ERROR for d in diags)
+    if progress is not None:  # final: reported even if the budget runs out in the anomaly search
+        progress.diagnostics = list(diags)
+        progress.done = "its syntax and type checks"
+        progress.rest = "the search for anomalies (void model, dead and false-optional features)"
     if anomalies and res.model.root is not None:
+        left = budget.remaining()
+        hard = None if left is None else max(0.0, left - SAT_RESERVE)
         try:
-            diags += analysis.anomalies(time_budget=timeout)
+            diags += analysis.anomalies(time_budget=timeout if hard is None or timeout is None else min(timeout, hard),
+                                        hard_budget=hard)
+        except MemoryError:
+            raise  # the file's budget: analysis-budget-exceeded, with what progress holds
         except Exception as exc:  # an analysis bug must not hide the parse diagnostics
             diags.append(_internal(path, f"model analysis failed: {exc!r}"))
     return _ModelInfo(path, res.model, diags, analysis, has_errors)
@@ -93,6 +106,11 @@ def _unreadable(path: str) -> Optional[Diagnostic]:
 
 
 def _internal(path: str, msg: str) -> Diagnostic:
+    """An ``internal-error`` for a failure being handled; a ``MemoryError`` is not a bug but the
+    file's memory budget, so it is raised again (:func:`budget.limited` reports it)."""
+    import sys
+    if isinstance(sys.exc_info()[1], MemoryError):
+        raise sys.exc_info()[1]
     from ..base.text import Pos, Span
     return Diagnostic("internal-error", Severity.ERROR, path, Span(Pos(0, 0), Pos(0, 0)), msg)
 
@@ -291,27 +309,33 @@ _KEPT: list = []
 
 
 def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnostic]:
-    _KEPT.clear()
+    if _KEPT:
+        import gc
+        _KEPT.clear()
+        gc.unfreeze()
     read_file = read_file or default_read_file
     out: list[Diagnostic] = []
     models: dict = {}
     try:
         if unit.model is not None and unit.model_wanted:
+            progress = budget.Progress()
+
             def model_check() -> list[Diagnostic]:
-                info = _load_model(unit.model, read_file, None, True, unit.timeout)
+                info = _load_model(unit.model, read_file, None, True, unit.timeout, progress)
                 models[unit.model] = info
                 if info is not None:
                     return info.diagnostics
                 d = _unreadable(unit.model)
                 return [d] if d is not None else []
-            out += budget.limited(unit.model, model_check, unit.cpu_budget)
+            out += budget.limited(unit.model, model_check, unit.cpu_budget, progress,
+                                  keep=_KEPT if KEEP_LAST else None)
         hints = {lf: (h, c) for lf, h, c in unit.hints}
         for lf, pairings, root in unit.launches:
             h, c = hints.get(lf, (None, None))
             try:
                 out += budget.limited(lf, lambda: check_launch(lf, None, pairings, root, read_file, models,
                                                                unit.timeout, h, c, partial=lf in unit.partial),
-                                      unit.cpu_budget)
+                                      unit.cpu_budget, keep=_KEPT if KEEP_LAST else None)
             except Exception as exc:
                 out.append(_internal(lf, f"check failed: {exc!r}"))
     except Exception as exc:
@@ -433,10 +457,14 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
 
 
 def check_paths(paths: Sequence[str], read_file: Optional[ReadFile] = None, jobs: Optional[int] = None,
-                timeout: Optional[float] = 10.0) -> list[Diagnostic]:
-    """Check every model, launch file and HAROS project file under ``paths``."""
+                timeout: Optional[float] = 10.0, cpu_budget: Optional[float] = None) -> list[Diagnostic]:
+    """Check every model, launch file and HAROS project file under ``paths``; ``cpu_budget``:
+    CPU seconds per file (default ``budget.CPU_SECONDS``; 0: none)."""
     paths = [norm(p) for p in (paths or ["."])]
     units, out, nfiles = plan(paths, read_file, timeout)
+    if cpu_budget is not None:
+        from dataclasses import replace
+        units = [replace(u, cpu_budget=cpu_budget or None) for u in units]
     auto = jobs is None
     if jobs is None:
         jobs = os.cpu_count() or 1

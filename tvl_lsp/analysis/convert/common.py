@@ -291,7 +291,7 @@ def _project(enc: Encoding, clauses: list[list[int]], extra_features: Iterable[i
     """Clauses over feature variables that allow exactly the feature selections for which
     ``clauses`` (with the encoding's definitions) can hold; None when too many features are
     involved to enumerate."""
-    from pysat.solvers import Solver
+    from ..sat import BoundedSolver as Solver
     defs = _definitions(enc)
     n = enc.n_features
     lits = [x for c in clauses for x in c]

@@ -23,7 +23,7 @@ def attributes_determined(clauses: Sequence[Sequence[int]], n_features: int, nva
     attrs = [v for v in attribute_vars if v in used]
     if not attrs:
         return True
-    from pysat.solvers import Solver
+    from ..sat import BoundedSolver as Solver
     n, top = n_features, nvars
 
     def shift(x: int) -> int:

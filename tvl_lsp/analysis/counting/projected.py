@@ -62,7 +62,7 @@ def query_key(base_key: str, projection_all: bool, assumptions: Iterable[int],
 
 def _count_inprocess(nvars: int, clauses: Sequence[Sequence[int]], projection: Optional[Sequence[int]]) -> int:
     import pyganak
-    from pysat.solvers import Solver
+    from ..sat import BoundedSolver as Solver
     # pyganak writes "c o intermediate count: 0" on stdout for an unsatisfiable CNF; stdout is
     # the language server's channel, so settle that case with a SAT call first
     with Solver(name="minisat22", bootstrap_with=[c for c in clauses if c]) as s:

@@ -74,7 +74,7 @@ class SatOracle:
     not count products (attribute values the features do not determine)."""
 
     def __init__(self, clauses: Sequence[Sequence[int]], n: int):
-        from pysat.solvers import Solver
+        from ..sat import BoundedSolver as Solver
         self.s = Solver(name="minisat22", bootstrap_with=[list(c) for c in clauses])
         self.n = n
 

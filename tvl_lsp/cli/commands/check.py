@@ -12,6 +12,8 @@ import sys
 import traceback
 from typing import Optional
 
+from ...project.budget import CHECK_CPU_SECONDS, CHECK_MEMORY_BYTES
+
 EPILOG = """\
 formats:
   text    path:line:col: severity[code] message   (1-based line and column)
@@ -51,6 +53,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--jobs", "-j", type=int, default=None, metavar="N",
                    help="parallel processes (default: one per CPU; 1: no processes)")
     p.add_argument("--quiet", "-q", action="store_true", help="no summary line on stderr")
+    p.add_argument("--budget", type=float, default=None, metavar="SECONDS",
+                   help="CPU seconds one file's check may use (default: %g; 0: no limit); past it the file "
+                        "gets analysis-budget-exceeded and what was finished (e.g. its syntax and type checks)"
+                        % CHECK_CPU_SECONDS)
+    p.add_argument("--memory", type=int, default=None, metavar="MB",
+                   help="memory the check may allocate, in MB (default: %d)" % (CHECK_MEMORY_BYTES // 1024 ** 2))
     return p
 
 
@@ -94,6 +102,10 @@ def main(argv: Optional[list[str]] = None) -> int:
             raise _UsageError("no such file or folder: " + ", ".join(missing))
         if ns.jobs is not None and ns.jobs < 1:
             raise _UsageError("--jobs must be at least 1")
+        if ns.budget is not None and not ns.budget >= 0:
+            raise _UsageError("--budget must be a number of seconds, 0 or more")
+        if ns.memory is not None and ns.memory < 64:
+            raise _UsageError("--memory must be at least 64 (MB)")
     except _UsageError as exc:
         print(f"tvl-lsp --check: error: {exc}", file=sys.stderr)
         return 2
@@ -107,8 +119,10 @@ def main(argv: Optional[list[str]] = None) -> int:
 
     try:
         from ...project.budget import cap_memory
-        with cap_memory():  # past it an allocation fails and that file gets analysis-budget-exceeded
-            diags = check.check_paths(paths, jobs=ns.jobs)
+        memory = CHECK_MEMORY_BYTES if ns.memory is None else ns.memory * 1024 ** 2
+        seconds = CHECK_CPU_SECONDS if ns.budget is None else (ns.budget if ns.budget < 1e6 else 0)
+        with cap_memory(memory):  # past it an allocation fails and that file gets analysis-budget-exceeded
+            diags = check.check_paths(paths, jobs=ns.jobs, cpu_budget=seconds)
         if select:
             diags = [d for d in diags if d.code in select]
         if ignore:
