@@ -113,6 +113,32 @@ def test_the_server_gives_freed_memory_back_at_most_every_few_seconds():
     assert workers.release_memory() is False  # throttled
 
 
+def test_the_idle_trim_collects_garbage_cycles_first():
+    """A big document's parse (trees with parent links) reaches the oldest generation, which
+    Python collects only after it grows by a quarter: its arenas stayed in the RSS (fuzz seed
+    3: +47-62 % at the end; +26 % with the collection)."""
+    import gc
+    import weakref
+    from tvl_lsp.lsp import workers
+
+    class Node:
+        pass
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        a, b = Node(), Node()
+        a.other, b.other = b, a
+        ref = weakref.ref(a)
+        del a, b
+        assert ref() is not None
+        workers._RELEASED[0] = 0.0
+        workers.release_memory(every=0.0)
+        assert ref() is None
+    finally:
+        if was:
+            gc.enable()
+
+
 def test_a_throttled_trim_is_retried_once_the_checks_are_idle(monkeypatch):
     """The last check of a burst of edits finished within the throttle of the previous trim: the
     trim is retried later (it was skipped for good, leaving the peak in the RSS: seed 3 of the

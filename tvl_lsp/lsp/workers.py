@@ -104,13 +104,20 @@ _RELEASED = [0.0]
 
 
 def release_memory(every: float = 5.0) -> bool:
-    """Give the free memory at the top and inside the heap back to the system (glibc's
-    ``malloc_trim``), at most every ``every`` seconds: called when the server goes idle, so
-    the peak of a big document's analysis does not stay in its RSS for good."""
+    """Collect the garbage cycles, then give the free memory at the top and inside the heap back
+    to the system (glibc's ``malloc_trim``), at most every ``every`` seconds: called when the
+    server goes idle, so the peak of a big document's analysis does not stay in its RSS for
+    good.  The collection comes first: a big document's parse (trees with parent links: cycles)
+    reaches the oldest generation, which Python collects only once it has grown by a quarter,
+    so its arenas stayed allocated (fuzz seed 3: +47-62 % server RSS at the end, +25 % with it)."""
     now = time.monotonic()
-    if now - _RELEASED[0] < every or not sys.platform.startswith("linux"):
+    if now - _RELEASED[0] < every:
         return False
     _RELEASED[0] = now
+    import gc
+    gc.collect()
+    if not sys.platform.startswith("linux"):
+        return False
     try:
         import ctypes
         return bool(ctypes.CDLL(None).malloc_trim(0))

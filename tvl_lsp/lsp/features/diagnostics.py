@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from lsprotocol import types
 
-PULL_WAIT = 1.0  # seconds a pull waits for a pending check when the client accepts refreshes
+PULL_WAIT = 0.5  # seconds a pull waits for a pending check when the client accepts refreshes
 
 
 def register(ls) -> None:
