@@ -47,8 +47,9 @@ def open_doc(client: LanguageClient, path: Path, text: str | None = None, versio
 
 
 def uses_pull(client: LanguageClient) -> bool:
-    caps = client.capabilities or types.ClientCapabilities()
-    return caps.text_document is not None and caps.text_document.diagnostic is not None
+    """The server offered pull diagnostics to this client (only to those that accept refreshes)."""
+    res = getattr(client, "init_result", None)
+    return res is not None and res.capabilities.diagnostic_provider is not None
 
 
 async def diagnostics(client: LanguageClient, uri: str, predicate=None, timeout: float = 30.0):

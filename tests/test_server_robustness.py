@@ -312,3 +312,36 @@ def test_a_pull_answers_at_once_when_the_client_accepts_refreshes(server, tmp_pa
     while time.monotonic() < end and not any(m.get("method") == "workspace/diagnostic/refresh" for m in server.messages):
         time.sleep(0.1)
     assert any(m.get("method") == "workspace/diagnostic/refresh" for m in server.messages)
+
+
+def test_a_client_that_pulls_without_refreshes_gets_pushed_diagnostics(server, tmp_path):
+    """Neovim 0.10 and 0.11 pull diagnostics but cannot be asked to pull again: their pulls
+    waited for the solver-backed check (up to its budget, 11 s on a hard model) while requests
+    are to be answered within 2 s.  Such a client is not offered pull diagnostics; they are
+    pushed, and a pull it sends all the same is answered at once."""
+    rid = server.request("initialize", {
+        "processId": None, "rootUri": tmp_path.as_uri(), "initializationOptions": {"debounce": 3},
+        "capabilities": {"textDocument": {"diagnostic": {"dynamicRegistration": False}}}})
+    caps = server.response(rid, 30)["result"]["capabilities"]
+    assert caps.get("diagnosticProvider") is None
+    server.notify("initialized", {})
+    uri = (tmp_path / "m.tvl").as_uri()
+    _open(server, uri, "root A { group allOf { B, B } }\n", "tvl")
+    t = time.monotonic()
+    rep = server.response(server.request("textDocument/diagnostic", {"textDocument": {"uri": uri}}), 30)
+    assert rep is not None and "result" in rep and time.monotonic() - t < 2.0, rep
+    end = time.monotonic() + 20
+    pushed = []
+    while time.monotonic() < end and not pushed:
+        pushed = [m for m in server.messages if m.get("method") == "textDocument/publishDiagnostics"
+                  and m["params"]["uri"] == uri and m["params"]["diagnostics"]]
+        time.sleep(0.1)
+    assert pushed and "duplicate-feature" in {d.get("code") for d in pushed[-1]["params"]["diagnostics"]}, pushed
+
+
+def test_a_client_that_accepts_refreshes_is_offered_pull_diagnostics(server, tmp_path):
+    rid = server.request("initialize", {
+        "processId": None, "rootUri": tmp_path.as_uri(),
+        "capabilities": {"textDocument": {"diagnostic": {}}, "workspace": {"diagnostics": {"refreshSupport": True}}}})
+    caps = server.response(rid, 30)["result"]["capabilities"]
+    assert caps.get("diagnosticProvider", {}).get("identifier") == "tvl-lsp"

@@ -441,10 +441,15 @@ class Encoding(DistributeMixin):
         it out -- its values are existentially quantified anyway, and big one-hot domains slow
         the projected counts down for nothing."""
         from .sat import BoundedSolver as Solver
+        lits = (M.IntLit, M.BoolLit)
         for f in self.features:
             for a in f.attributes:
                 if id(a) in self._attr_terms:
                     continue
+                if (a.type in ("int", "bool") and a.domain is None and isinstance(a.value, lits)
+                        and a.if_in_value is None and a.if_in_domain is None and a.if_out_value is None
+                        and a.if_out_domain is None):
+                    continue  # ``int cost is 87;``: one value and no domain restricts nothing
                 saved = (self.b, self.hard, self.elements, dict(self._attr_terms))
                 self.hard = []
                 self.b = _Builder(saved[0].top, self.hard)

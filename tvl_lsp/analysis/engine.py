@@ -218,9 +218,12 @@ class ModelAnalysis:
         # the budget is the explanations'; finding the anomalies gets at least MIN_DETECTION s
         # (milliseconds on ordinary models), then stops and says so rather than overrun
         detect_by = None if time_budget is None else start + max(time_budget, MIN_DETECTION)
-        if hard_budget is not None:
-            detect_by = min(detect_by, t0 + hard_budget)
+        by_hard = hard_budget is not None and (detect_by is None or t0 + hard_budget < detect_by)
+        if by_hard:
+            detect_by = t0 + hard_budget
         detect_secs = None if detect_by is None else max(0.0, detect_by - start)
+        budget_txt = (f"what the file's CPU budget left after reading and encoding it, {detect_secs:.2g} s"
+                      if by_hard else f"{detect_secs:.3g} s")
         bb = an.backbone(detect_by)
         fo = (an.false_optional(detect_by) if self.model.format != "dimacs" else []) if bb is not None else None
         if bb is None or fo is None:
@@ -229,7 +232,7 @@ class ModelAnalysis:
                 ANOMALY_BUDGET, Severity.INFORMATION, root.path if root else self.model.path,
                 root.name_span if root else ZERO_SPAN,
                 f"The search for {'dead and ' if bb is None else ''}false-optional features ran out of its "
-                f"time budget ({detect_secs:.3g} s) on this model of {enc.n_features:,} features: "
+                f"time budget ({budget_txt}) on this model of {enc.n_features:,} features: "
                 f"{'none are' if bb is None else 'false-optional features are not'} reported "
                 "(the editor's count.timeBudget setting, or `--budget` for `--check`, raises the budget)"))
         for f in (an.dead() if bb is not None else []):

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import logging
 import re
-from typing import Any
+from typing import Any, Optional
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcException
@@ -90,6 +90,14 @@ class InvalidMessage:
 
 def _valid_id(msg_id) -> bool:
     return isinstance(msg_id, (str, int)) and not isinstance(msg_id, bool)
+
+
+def pull_refresh(caps: Optional[types.ClientCapabilities]) -> bool:
+    """The client pulls diagnostics and accepts ``workspace/diagnostic/refresh``."""
+    try:
+        return bool(caps.text_document.diagnostic is not None and caps.workspace.diagnostics.refresh_support)
+    except AttributeError:
+        return False
 
 
 class TvlProtocol(LanguageServerProtocol):
@@ -200,6 +208,19 @@ class TvlProtocol(LanguageServerProtocol):
         super()._send_handler_result(future, msg_id=msg_id)
 
     # ------------------------------------------------------------ lifecycle and documents
+    @lsp_method(types.INITIALIZE)
+    def lsp_initialize(self, params: types.InitializeParams):
+        """pygls's, except that pull diagnostics are offered only to a client that accepts
+        ``workspace/diagnostic/refresh``: a pull is answered at once with the latest results and
+        the client is told to pull again when a check lands.  A client that pulls but cannot be
+        told so (Neovim 0.10 and 0.11) gets pushed diagnostics instead: a pull had to wait for
+        the solver-backed check, up to its budget (11 s), and requests are answered within 2 s."""
+        result = yield from super().lsp_initialize(params)
+        if not pull_refresh(params.capabilities) and result is not None:
+            result.capabilities.diagnostic_provider = None
+            self.server_capabilities.diagnostic_provider = None
+        return result
+
     @lsp_method(types.EXIT)
     def lsp_exit(self, *args):
         if (handler := self.fm.features.get(types.EXIT)) is not None:

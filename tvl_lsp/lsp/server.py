@@ -89,7 +89,12 @@ class TvlLanguageServer(DocumentStore, Scheduler, Workers, LanguageServer):
 
     @property
     def pull_diagnostics(self) -> bool:
-        return self.cap("text_document.diagnostic") is not None
+        """Diagnostics are pulled: offered only to clients that accept refreshes (see
+        ``TvlProtocol.lsp_initialize``); the others get them pushed."""
+        try:
+            return self.protocol.server_capabilities.diagnostic_provider is not None
+        except AttributeError:  # (before initialize)
+            return False
 
     @property
     def supports_progress(self) -> bool:

@@ -1,7 +1,8 @@
-"""Pull diagnostics (``textDocument/diagnostic``) for clients that advertise them; the
-push side is the server's scheduler (``TvlLanguageServer.schedule``).  Answered within
-:data:`PULL_WAIT` when the client supports ``workspace/diagnostic/refresh`` (the server asks
-it to pull again once a pending check is done)."""
+"""Pull diagnostics (``textDocument/diagnostic``) for clients that pull them and accept
+``workspace/diagnostic/refresh`` (the others get them pushed: see
+``TvlProtocol.lsp_initialize``); the push side is the server's scheduler
+(``TvlLanguageServer.schedule``).  Answered within :data:`PULL_WAIT`; the server asks the
+client to pull again once a pending check is done."""
 
 from __future__ import annotations
 
@@ -22,8 +23,10 @@ def register(ls) -> None:
         # a client that can be told to pull again gets an answer at once (the latest results:
         # the syntax pass, or the last full check) and a refresh when the full check lands
         # (publish); one that cannot waits for the solver-backed check, within its budget
+        # (pull diagnostics are offered only to clients that accept refreshes; one that pulls
+        # all the same is answered with the latest results at once)
         refresh = ls.cap("workspace.diagnostics.refresh_support", False)
-        res = await ls.wait_full(uri, PULL_WAIT if refresh else ls.settings.time_budget + 1)
+        res = await ls.wait_full(uri, PULL_WAIT if refresh else 0.0)
         doc = ls.docs.get(uri)
         if doc is None:
             return types.RelatedFullDocumentDiagnosticReport(items=[])
