@@ -176,3 +176,16 @@ def test_budget_progress_and_keep():
     assert len(kept) == 1  # the stopped check's frames, for a one-shot process to drop at exit
     import gc
     gc.unfreeze()
+
+
+def test_the_editor_check_keeps_the_front_end_findings_too(tmp_path):
+    """The server's workers check one document with check_document: the same progress."""
+    from tvl_lsp.project import models
+    models.clear()
+    f = tmp_path / "pigeons.tvl"
+    text = php_tvl(12)
+    t = time.process_time()
+    out = pcheck.check_document(str(f), text=text, cpu_budget=1.5)
+    assert sorted(d.code for d in out) == ["analysis-budget-exceeded", "naming-convention"], out
+    assert time.process_time() - t < 1.5 + 1.5
+    models.clear()

@@ -531,13 +531,15 @@ def check_document(path: str, text: Optional[str] = None, read_file: Optional[Re
     """Every diagnostic of the document at ``path`` (see the module docstring), within the
     per-file budget (:mod:`budget`: past it, one ``analysis-budget-exceeded`` error)."""
     path = norm(path)
-    return budget.limited(path, lambda: _check_document(path, text, read_file, roots, timeout, workspace),
-                          cpu_budget)
+    progress = budget.Progress()
+    return budget.limited(path, lambda: _check_document(path, text, read_file, roots, timeout, workspace,
+                                                        progress),
+                          cpu_budget, progress)
 
 
 def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile],
                     roots: Optional[Sequence[str]], timeout: Optional[float],
-                    workspace: Optional[Workspace]) -> list[Diagnostic]:
+                    workspace: Optional[Workspace], progress: Optional[budget.Progress] = None) -> list[Diagnostic]:
     base_read = read_file or default_read_file
 
     def read(p: str) -> Optional[str]:
@@ -551,7 +553,11 @@ def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile
         d = _unreadable(path)
         return [d] if d else []
     if is_model(path):
-        return _dedupe_sort(check_model(path, text, read, timeout))
+        info = _load_model(path, read, text, True, timeout, progress)
+        if info is None:
+            d = _unreadable(path)
+            return [d] if d else []
+        return _dedupe_sort(info.diagnostics)
     if is_launch(path) or (is_xml_launch_candidate(path) and launch_root_text(text)):
         rts = _roots_for(path, roots)
         ws = workspace or _workspace(rts, read)
