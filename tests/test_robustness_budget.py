@@ -189,3 +189,27 @@ def test_the_editor_check_keeps_the_front_end_findings_too(tmp_path):
     assert sorted(d.code for d in out) == ["analysis-budget-exceeded", "naming-convention"], out
     assert time.process_time() - t < 1.5 + 1.5
     models.clear()
+
+
+@pytest.mark.parametrize("dialect", ["ros1", "ros2-xml", "ros2-yaml"])
+def test_an_include_bomb_is_cut_with_a_launch_warning(tmp_path, dialect):
+    """Eight levels of ten includes each (10^7 nodes): the analysis stops after MAX_VISITS
+    elements with launch-analysis-budget, well within the file's budget (it ran into it: 4 s)."""
+    for i in range(8):
+        if dialect == "ros2-yaml":
+            name = f"l{i}.launch.yaml"
+            body = ("".join(f"- include: {{file: '$(dirname)/l{i + 1}.launch.yaml', arg: [{{name: x, value: '{k}'}}]}}\n"
+                            for k in range(10)) if i < 7 else "- node: {pkg: demo_nodes, exec: t, name: 'n$(var x)'}\n")
+            (tmp_path / name).write_text("launch:\n- arg: {name: x, default: '0'}\n" + body)
+            continue
+        ext = ".launch" if dialect == "ros1" else ".launch.xml"
+        node = ('<node pkg="demo_nodes" type="t" name="n$(arg x)"/>' if dialect == "ros1"
+                else '<node pkg="demo_nodes" exec="t" name="n$(var x)"/>')
+        body = ("".join(f'  <include file="$(dirname)/l{i + 1}{ext}"><arg name="x" value="{k}"/></include>\n'
+                        for k in range(10)) if i < 7 else f"  {node}\n")
+        (tmp_path / f"l{i}{ext}").write_text(f'<launch>\n  <arg name="x" default="0"/>\n{body}</launch>\n')
+    top = next(tmp_path.glob("l0.*"))
+    p, diags, cpu = run_check(top, "--budget", "0")
+    got = {d["code"] for d in diags}
+    assert "launch-analysis-budget" in got and "analysis-budget-exceeded" not in got, got
+    assert cpu < 4, cpu

@@ -231,7 +231,7 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
             if not self.budget_hit:
                 self.budget_hit = True
                 self.facts.append(ErrorFact(BUDGET, W, f"the launch file (with its includes) is too large to analyse "
-                                            f"completely; analysis stopped after {MAX_VISITS} elements",
+                                            f"completely; analysis stopped after {MAX_VISITS:,} elements",
                                             el.path, el.tag_span or el.span, TRUE))
             return False
         return True

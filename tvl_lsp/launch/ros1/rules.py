@@ -66,7 +66,7 @@ BUDGET = _reg("launch-analysis-budget", W, "The launch file is too large to anal
 
 MAX_CASES = 64
 MAX_INCLUDE_DEPTH = 12
-MAX_VISITS = 200_000
+MAX_VISITS = 20_000  # elements visited (includes expanded) per analysis: a file has at most 10,000
 MAX_WALK_DEPTH = 150
 UNRESOLVED = "\x01"  # marks text produced by an unresolved $(find pkg)
 # the value of an arg whose value/default failed to evaluate (the failure is already reported;

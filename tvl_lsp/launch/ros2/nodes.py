@@ -18,6 +18,9 @@ from .values import (W, DUPLICATE_NODE, FILE_NOT_FOUND, INVALID_NAMESPACE, INVAL
 
 from ..model import RemapCase
 
+PAIRWISE_DUPLICATES = 8  # up to this many earlier nodes of a name: one duplicate-node fact per pair
+MAX_RELATED = 64  # related locations listed for a duplicate node
+
 
 class NodeRules:
     """The node part of the walker (mixed into :class:`~.walker.Walker`)."""
@@ -195,15 +198,24 @@ class NodeRules:
 
     def add_node(self, nf: "Node2Fact", name_value, el: Element, full: str) -> None:
         if full and not opaque(full) and not full.endswith("/"):
-            for other in self.node_names.get(full, []):
-                both = conj([other.condition, nf.condition])
+            others = self.node_names.get(full, [])
+
+            def where(other):
                 oel = other.element
-                self.fact(DUPLICATE_NODE, f"two nodes named [{shown(full)}] are started: ros2 launch starts both (it "
-                          "only warns) but ROS 2 requires node names to be unique", el.path,
-                          (name_value.span() if name_value is not None else None) or el.tag_span, both, W,
-                          related=[(other.path, oel.attrs["name"].value_span if "name" in oel.attrs else oel.span,
-                                    "the other node with this name")])
+                return (other.path, oel.attrs["name"].value_span if "name" in oel.attrs else oel.span,
+                        "the other node with this name")
+            msg = (f"two nodes named [{shown(full)}] are started: ros2 launch starts both (it only warns) but "
+                   "ROS 2 requires node names to be unique")
+            span = (name_value.span() if name_value is not None else None) or el.tag_span
+            if len(others) <= PAIRWISE_DUPLICATES:
+                for other in others:
+                    self.fact(DUPLICATE_NODE, msg, el.path, span, conj([other.condition, nf.condition]), W,
+                              related=[where(other)])
+            else:  # many nodes of one name (an include fan-out): one fact per node, not one per pair
+                self.fact(DUPLICATE_NODE, msg, el.path, span, conj([self.node_name_any[full], nf.condition]), W,
+                          related=[where(o) for o in others[:MAX_RELATED]])
             self.node_names.setdefault(full, []).append(nf)
+            self.node_name_any[full] = disj([self.node_name_any.get(full, FALSE), nf.condition])
         self.nodes.append(nf)
 
     def node_params(self, params: list, sc: Scope, g: Formula, el: Element, emap: dict, composable: bool = False):

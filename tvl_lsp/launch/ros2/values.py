@@ -65,7 +65,7 @@ LAUNCH_PARSE = _reg("invalid-launch-file", E, "ros2 launch refuses to load the f
 
 MAX_CASES = 64
 MAX_INCLUDE_DEPTH = 12
-MAX_VISITS = 200_000
+MAX_VISITS = 20_000  # elements visited (includes expanded) per analysis: a file has at most 10,000
 MAX_WALK_DEPTH = 150
 UNRESOLVED = "\x01"   # around a package name whose folder is unknown (as the ROS 1 loader)
 OPAQUE = "\x02"       # a value tvl-lsp cannot compute ($(eval) it cannot analyse, $(command) ...)

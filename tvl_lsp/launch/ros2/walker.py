@@ -96,6 +96,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.diagnostics: list[Diagnostic] = []
         self.units: dict[str, Unit] = {}
         self.node_names: dict[str, list[Node2Fact]] = {}
+        self.node_name_any: dict[str, Formula] = {}  # name -> some node of that name is started
         self.visits = 0
         self.budget_hit = False
         self.noted: set = set()
@@ -311,7 +312,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
             if not self.budget_hit:
                 self.budget_hit = True
                 self.facts.append(LaunchFact(BUDGET, W, "the launch file (with its includes) is too large to analyse "
-                                             f"completely; analysis stopped after {MAX_VISITS} elements",
+                                             f"completely; analysis stopped after {MAX_VISITS:,} elements",
                                              el.path, el.tag_span or el.span, TRUE))
             return False
         return True
