@@ -213,3 +213,36 @@ def test_an_include_bomb_is_cut_with_a_launch_warning(tmp_path, dialect):
     got = {d["code"] for d in diags}
     assert "launch-analysis-budget" in got and "analysis-budget-exceeded" not in got, got
     assert cpu < 4, cpu
+
+
+def _dead(text: str, tmp_path) -> list[str]:
+    from tvl_lsp.project import models
+    models.clear()
+    f = tmp_path / "m.tvl"
+    f.write_text(text)
+    out = pcheck.check_paths([str(f)], jobs=1, cpu_budget=0)
+    models.clear()
+    return sorted(f"{d.code}:{d.span.start.line}" for d in out)
+
+
+def test_thousands_of_attribute_domains_are_not_encoded_one_by_one(tmp_path):
+    """3,000 children with ``int c in [0..1000]`` and a root ``int t is sum(children.c)``: every
+    domain was encoded on the side (minutes), and the sum encoded all 3,000 operands before
+    finding the first combination too large.  A plain non-empty range restricts nothing; the
+    sum stops at its first combination that is too large."""
+    text = ("root A { int t is sum(children.c); group someOf {"
+            + ",".join(f"F{i} {{ int c in [0..1000]; }}" for i in range(3000)) + "} }\n")
+    t = time.process_time()
+    assert _dead(text, tmp_path) == []
+    assert time.process_time() - t < 5
+
+
+def test_attributes_that_restrict_their_owner_still_count(tmp_path):
+    """The shortcuts skip only what cannot restrict: a value outside its domain, a guarded
+    value, and a constraint that reads an attribute are encoded as before."""
+    assert _dead("root A { group someOf { B { int c in [0..3]; }, C } B -> B.c > 3; }\n", tmp_path) \
+        == ["dead-feature:0"]
+    assert _dead("root A { group someOf { B { int c is 2; }, C } B -> B.c > 3; }\n", tmp_path) == ["dead-feature:0"]
+    assert _dead("root A { group someOf { B { int c in [0..3], ifIn: is 7; }, C } }\n", tmp_path) \
+        == ["value-out-of-domain:0"]
+    assert _dead("root A { group someOf { B { int c in [0..3]; int d is 4; }, C } }\n", tmp_path) == []

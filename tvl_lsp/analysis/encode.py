@@ -446,10 +446,17 @@ class Encoding(DistributeMixin):
             for a in f.attributes:
                 if id(a) in self._attr_terms:
                     continue
-                if (a.type in ("int", "bool") and a.domain is None and isinstance(a.value, lits)
-                        and a.if_in_value is None and a.if_in_domain is None and a.if_out_value is None
-                        and a.if_out_domain is None):
-                    continue  # ``int cost is 87;``: one value and no domain restricts nothing
+                if (a.if_in_value is None and a.if_in_domain is None and a.if_out_value is None
+                        and a.if_out_domain is None and a.type in ("int", "bool") and not getattr(a, "has_errors", False)):
+                    if a.domain is None and isinstance(a.value, lits):
+                        continue  # ``int cost is 87;``: one value and no domain restricts nothing
+                    d = a.domain
+                    if (a.value is None and a.type == "int" and isinstance(d, M.RangeLit)
+                            and isinstance(d.lo, M.IntLit) and isinstance(d.hi, M.IntLit)
+                            and type(d.lo.value) is int and type(d.hi.value) is int and d.lo.value <= d.hi.value):
+                        # ``int c in [0..1000];``: a non-empty range and no value restricts nothing
+                        # (3,000 such attributes took minutes to encode on the side, one by one)
+                        continue
                 saved = (self.b, self.hard, self.elements, dict(self._attr_terms))
                 self.hard = []
                 self.b = _Builder(saved[0].top, self.hard)
@@ -777,9 +784,9 @@ class Encoding(DistributeMixin):
                     raise NotEncodable("count(...) over explicit values")
                 items = [(sel, {1: True}) for sel, _ in self._agg_items(e, ctx, bool_=None)]
                 return self._sum_items(items)
-            items = self._agg_items(e, ctx, bool_=False)
-            for _, m in items:
-                self._ints(m)
+            # one operand at a time: a sum over thousands of children with big domains stops at
+            # the first combination that is too large, before the next operands are encoded
+            items = self._int_items(self._agg_items(e, ctx, bool_=False))
             if e.func == "sum":
                 return self._sum_items(items)
             if e.func == "mul":
@@ -804,6 +811,11 @@ class Encoding(DistributeMixin):
             raise NotEncodable(f"aggregate {e.func}")
         raise NotEncodable("an unsupported expression")
 
+    def _int_items(self, items):
+        for sel, m in items:
+            self._ints(m)
+            yield sel, m
+
     def _ints(self, m: dict) -> None:
         for k in m:
             if isinstance(k, bool) or not isinstance(k, int):
@@ -818,22 +830,20 @@ class Encoding(DistributeMixin):
             acc = self._combine(acc, self._ite_map(sel, m, {0: True}), lambda x, y: x + y)
         return acc
 
-    def _agg_items(self, e: M.Aggregate, ctx, bool_) -> list:
-        """(selected-literal, term) pairs of an aggregate's operands."""
+    def _agg_items(self, e: M.Aggregate, ctx, bool_):
+        """(selected-literal, term) pairs of an aggregate's operands, encoded as they are taken."""
         if e.over is None:
-            out = []
             for a in e.args:
-                out.append((True, self._blit(a, ctx) if bool_ else self._vmap(a, ctx)))
-            return out
+                yield True, self._blit(a, ctx) if bool_ else self._vmap(a, ctx)
+            return
         owner = e.owner or ctx
         if owner is None or owner.group is None:
-            return []
-        out = []
+            return
         for gc in owner.group.children:
             ch = gc.feature
             sel: Lit = self.var_of_feature[ch] if e.over == "selectedChildren" else True
             if bool_ is None:
-                out.append((sel, None))
+                yield sel, None
                 continue
             attr = next((a for a in ch.attributes if a.name == e.attr), None)
             if attr is None:
@@ -842,10 +852,9 @@ class Encoding(DistributeMixin):
             if bool_:
                 if kind != "bool":
                     raise NotEncodable(f"{ch.name}.{e.attr} is not a boolean")
-                out.append((sel, val))
+                yield sel, val
             else:
-                out.append((sel, self._bool_map(val) if kind == "bool" else val))
-        return out
+                yield sel, (self._bool_map(val) if kind == "bool" else val)
 
     # ------------------------------------------------------------------ attributes
     def _attr_base(self, a: M.Attribute) -> str:
