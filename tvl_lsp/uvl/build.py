@@ -259,14 +259,34 @@ class UvlBuilder:
         built: list[tuple[_File, RawFeature, M.Feature]] = []
         stack = [(f, rf, parent)]
         feature = self._feature
-        simple = self._simple_feature
         pop = stack.pop
         push = stack.append
+        add_feature = self.model.features.append
+        new_feature = M.Feature
         while stack:
             ff, r, par = pop()
-            if r.type_tok is None and r.card is None and not r.attrs and len(r.ref.parts) == 1 \
-                    and r.ref.parts[0].type == "ID":
-                feat = simple(ff, r, par)  # the common line: a plain name
+            parts = r.ref.parts
+            if r.type_tok is None and r.card is None and not r.attrs and len(parts) == 1 and parts[0].type == "ID":
+                # the common line, a plain name: what _feature does for it
+                tok = parts[0]
+                name = tok.value
+                span = ff.fast_span
+                path = ff.path
+                s = tok.start
+                e = tok.end
+                nsp = span(s, e)
+                # (spans are immutable values: a line that is only the name shares one)
+                feat = new_feature(name, nsp if r.start == s and r.end == e else span(r.start, r.end), nsp, path,
+                                   par, is_root=par is None)
+                feat.decl_spans.append((path, nsp))
+                features = ff.features
+                if name in features:
+                    self._duplicate(feat, features[name])
+                else:
+                    features[name] = feat
+                if par is None and ff.root is None:
+                    ff.root = feat
+                add_feature(feat)
                 r.built = feat
                 if r.groups:
                     built.append((ff, r, feat))
@@ -301,31 +321,10 @@ class UvlBuilder:
                     g.lo = g.hi = len(children)
         return rf.built
 
-    def _simple_feature(self, f: _File, rf: RawFeature, parent: Optional[M.Feature]) -> M.Feature:
-        """:meth:`_feature` for a plain name with no type, cardinality or attributes."""
-        tok = rf.ref.parts[0]
-        name = tok.value
-        span = f.fast_span
-        path = f.path
-        s = tok.start
-        e = tok.end
-        nsp = span(s, e)
-        # (spans are immutable values: a line that is only the name shares one)
-        feat = M.Feature(name, nsp if rf.start == s and rf.end == e else span(rf.start, rf.end), nsp, path, parent,
-                         is_root=parent is None)
-        feat.decl_spans.append((path, nsp))
-        features = f.features
-        if name in features:
-            prev = features[name]
-            self.diag(C_DUP_NAME, path, nsp,
-                      f"two features are named '{name}': constraints cannot tell them apart (rename one)",
-                      related=[Related(prev.path, prev.name_span, "the other one")])
-        else:
-            features[name] = feat
-        if parent is None and f.root is None:
-            f.root = feat
-        self.model.features.append(feat)
-        return feat
+    def _duplicate(self, feat: M.Feature, prev: M.Feature) -> None:
+        self.diag(C_DUP_NAME, feat.path, feat.name_span,
+                  f"two features are named '{feat.name}': constraints cannot tell them apart (rename one)",
+                  related=[Related(prev.path, prev.name_span, "the other one")])
 
     def _feature(self, f: _File, rf: RawFeature, parent: Optional[M.Feature]) -> Optional[M.Feature]:
         """The feature a tree line declares (an import reference brings the imported tree)."""
@@ -378,10 +377,7 @@ class UvlBuilder:
                          is_root=parent is None)
         feat.decl_spans.append((f.path, nsp))
         if name in f.features:
-            prev = f.features[name]
-            self.diag(C_DUP_NAME, f.path, nsp,
-                      f"two features are named '{name}': constraints cannot tell them apart (rename one)",
-                      related=[Related(prev.path, prev.name_span, "the other one")])
+            self._duplicate(feat, f.features[name])
         else:
             f.features[name] = feat
         if parent is None and f.root is None:

@@ -156,7 +156,13 @@ def tokenize(text: str, max_tokens: int = 0, fast: bool = True) -> tuple[list[Li
                             v = fm.group(3)
                             t = Tok("QID", v, fm.start(3), fm.end(3))
                         ind = fm.group(1)
-                        lines.append(Line(_width(text, pos) if "\t" in ind else len(ind), [t], pos))
+                        if "\t" not in ind:
+                            w = len(ind)
+                        elif " " not in ind:
+                            w = 8 * len(ind)  # tabs only
+                        else:
+                            w = _width(text, pos)
+                        lines.append(Line(w, [t], pos))
                         pos = line_start = fm.end()
                         ntok += 1
                         if max_tokens and ntok > max_tokens:
