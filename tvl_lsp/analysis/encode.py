@@ -345,7 +345,17 @@ class Encoding(DistributeMixin):
             r = m.root
             self._add(Element("root", f"{r.name} is the root: it is always selected", r.path, r.name_span,
                               r, [[v[r]]], negation=[-v[r]]))
+        add = self.elements.append  # (what _add does, its caches reset once below)
         for f in self.features:
+            par = f.parent
+            if not f.shared_parents:  # the common case: one parent
+                if par is None or par not in v:
+                    continue
+                vf = v[f]
+                vp = v[par]
+                add(Element("parent-link", f"{f.name} needs its parent {par.name}", f.path, f.name_span, f,
+                            [[-vf, vp]], negation=[vf, -vp]))
+                continue
             parents = [p for p in f.parents if p in v]
             if not parents:
                 continue
@@ -353,9 +363,13 @@ class Encoding(DistributeMixin):
                 label = f"{f.name} needs its parent {parents[0].name}"
             else:
                 label = f"{f.name} needs one of its parents {', '.join(p.name for p in parents)}"
-            self._add(Element("parent-link", label, f.path, f.name_span, f,
-                              [[-v[f]] + [v[p] for p in parents]], negation=[v[f]] + [-v[p] for p in parents]))
+            add(Element("parent-link", label, f.path, f.name_span, f,
+                        [[-v[f]] + [v[p] for p in parents]], negation=[v[f]] + [-v[p] for p in parents]))
+        self._clauses = None
+        self._determined = None
         for p in self.features:
+            if p.group is None and not p.extra_groups:
+                continue
             for g in p.groups:  # TVL: at most one; UVL: one per block
                 self._encode_group(p, g)
 

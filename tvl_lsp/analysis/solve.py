@@ -152,20 +152,21 @@ class Analyzer:
         backbone's candidates need them, before it starts) and the optional pairs it witnesses."""
         n = self.enc.n_features
         if seen:
-            for x in model[:n]:
-                if x > 0:
-                    self._seen_true.add(x)
-                else:
-                    self._seen_false.add(-x)
+            head = model[:n]
+            self._seen_true.update([x for x in head if x > 0])
+            self._seen_false.update([-x for x in head if x <= 0])
         # model-based filter for false-optional: this product shows "parent without child"
         if self._pending is None:
             self._pending = [(pv, fv) for pv, fv, _, _ in self._optional_pairs()]
         keep = []
-        for pv, fv in self._pending:
+        witness = self._witnessed.add
+        kept = keep.append
+        for pair in self._pending:
+            pv, fv = pair
             if model[pv - 1] > 0 and model[fv - 1] < 0:
-                self._witnessed.add((pv, fv))
+                witness(pair)
             else:
-                keep.append((pv, fv))
+                kept(pair)
         self._pending = keep
 
     # ------------------------------------------------------------------ detection
@@ -211,13 +212,22 @@ class Analyzer:
     def _optional_pairs(self) -> list[tuple[int, int, M.Feature, M.Feature]]:
         if self._opt_pairs is None:
             v = self.enc.var_of_feature
+            get = v.get
             seen: set = set()
             out = []
             for p in self.enc.features:
-                for gc in (c for g in p.groups for c in g.children):
-                    if gc.optional and gc.feature in v and (v[p], v[gc.feature]) not in seen:
-                        seen.add((v[p], v[gc.feature]))
-                        out.append((v[p], v[gc.feature], gc.feature, p))
+                if p.group is None and not p.extra_groups:
+                    continue
+                for g in p.groups:
+                    for gc in g.children:
+                        if gc.optional:
+                            f = gc.feature
+                            vf = get(f)
+                            if vf is not None:
+                                vp = v[p]
+                                if (vp, vf) not in seen:
+                                    seen.add((vp, vf))
+                                    out.append((vp, vf, f, p))
             self._opt_pairs = out
         return self._opt_pairs
 

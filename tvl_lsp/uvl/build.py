@@ -34,6 +34,7 @@ from ..base.files import inside, model_workspace
 from ..base.text import LineIndex, Span
 from ..tvl import model as M
 from ..tvl.parser import _single_file_span  # the hot-path Span maker (no dataclass __init__)
+from .fastpath import fast_parse
 from .lexer import Tok, TooManyTokens, tokenize
 from .parser import RawFeature, RawFile, RawImport, RawValue, StrLit, parse_lines, _unquote
 
@@ -94,6 +95,7 @@ class UvlBuilder:
         self.files: dict[str, _File] = {}
         self.attr_keys: dict[tuple[str, str], list[tuple[str, Span]]] = {}
         self.pending: list[tuple[_File, M.Expr, M.Feature]] = []
+        self._src: Optional[tuple] = None  # set by _feature: (file, raw feature, feature) of its subtree
         self.main = self._load(text, path, [os.path.abspath(path)], 0)
 
     # ------------------------------------------------------------ diagnostics
@@ -127,7 +129,11 @@ class UvlBuilder:
             else:
                 self.diag(C_UNTERM_STRING, path, sp, "this string is never closed on its line")
         span = _single_file_span(idx)
-        raw, issues = parse_lines(lines, text, len(text), span, path, tuple(le.start for le in lex_errors))
+        raw = fast_parse(lines, len(text), span, path) if not lex_errors else None
+        if raw is not None:
+            issues = []
+        else:
+            raw, issues = parse_lines(lines, text, len(text), span, path, tuple(le.start for le in lex_errors))
         for iss in issues:
             self.diag(C_SYNTAX, path, span(iss.start, iss.end), iss.message)
         f = _File(path, text, idx, raw, span)
@@ -250,33 +256,75 @@ class UvlBuilder:
     def _tree(self, f: _File, rf: RawFeature, parent: Optional[M.Feature]) -> Optional[M.Feature]:
         """Build ``rf`` and everything below it, without recursion: the features in source
         order first, then their groups."""
-        made: dict[int, M.Feature] = {}
         built: list[tuple[_File, RawFeature, M.Feature]] = []
         stack = [(f, rf, parent)]
+        feature = self._feature
+        pop = stack.pop
+        push = stack.append
+        add_feature = self.model.features.append
+        new_feature = M.Feature
         while stack:
-            ff, r, par = stack.pop()
-            feat = self._feature(ff, r, par)
+            ff, r, par = pop()
+            parts = r.ref.parts
+            if r.type_tok is None and r.card is None and not r.attrs and len(parts) == 1 and parts[0].type == "ID":
+                # the common line, a plain name: what _feature does for it
+                tok = parts[0]
+                name = tok.value
+                span = ff.fast_span
+                path = ff.path
+                s = tok.start
+                e = tok.end
+                nsp = span(s, e)
+                # (spans are immutable values: a line that is only the name shares one)
+                feat = new_feature(name, nsp if r.start == s and r.end == e else span(r.start, r.end), nsp, path,
+                                   par, is_root=par is None)
+                feat.decl_spans.append((path, nsp))
+                features = ff.features
+                if name in features:
+                    self._duplicate(feat, features[name])
+                else:
+                    features[name] = feat
+                if par is None and ff.root is None:
+                    ff.root = feat
+                add_feature(feat)
+                r.built = feat
+                if r.groups:
+                    built.append((ff, r, feat))
+                    for rg in reversed(r.groups):
+                        for child in reversed(rg.features):
+                            push((ff, child, feat))
+                continue
+            feat = feature(ff, r, par)
+            src = self._src
+            self._src = None
             if feat is None:
                 continue
-            made[id(r)] = feat
-            src = feat.__dict__.pop("_uvl_src", None)
+            r.built = feat
             if src is None:
                 continue
             built.append(src)
             sf, sr, _ = src
             for rg in reversed(sr.groups):
                 for child in reversed(rg.features):
-                    stack.append((sf, child, feat))
+                    push((sf, child, feat))
+        child_of = M.GroupChild
         for ff, r, feat in built:
             for rg in r.groups:
                 g = self._group(ff, rg, feat)
+                opt = rg.kw.type == "OPTIONAL"
+                children = g.children
                 for child in rg.features:
-                    cf = made.get(id(child))
+                    cf = child.built
                     if cf is not None:
-                        g.children.append(M.GroupChild(cf, rg.kw.type == "OPTIONAL", False, cf.name_span, cf.path))
+                        children.append(child_of(cf, opt, False, cf.name_span, cf.path))
                 if g.kind == "allOf":
-                    g.lo = g.hi = len(g.children)
-        return made.get(id(rf))
+                    g.lo = g.hi = len(children)
+        return rf.built
+
+    def _duplicate(self, feat: M.Feature, prev: M.Feature) -> None:
+        self.diag(C_DUP_NAME, feat.path, feat.name_span,
+                  f"two features are named '{feat.name}': constraints cannot tell them apart (rename one)",
+                  related=[Related(prev.path, prev.name_span, "the other one")])
 
     def _feature(self, f: _File, rf: RawFeature, parent: Optional[M.Feature]) -> Optional[M.Feature]:
         """The feature a tree line declares (an import reference brings the imported tree)."""
@@ -329,10 +377,7 @@ class UvlBuilder:
                          is_root=parent is None)
         feat.decl_spans.append((f.path, nsp))
         if name in f.features:
-            prev = f.features[name]
-            self.diag(C_DUP_NAME, f.path, nsp,
-                      f"two features are named '{name}': constraints cannot tell them apart (rename one)",
-                      related=[Related(prev.path, prev.name_span, "the other one")])
+            self._duplicate(feat, f.features[name])
         else:
             f.features[name] = feat
         if parent is None and f.root is None:
@@ -348,7 +393,7 @@ class UvlBuilder:
                              f"the feature cardinality {rf.card.value} of '{name}' (several instances) is not "
                              "analysed: the feature is analysed as one feature, selected or not")
         self._attributes(f, rf, feat)
-        feat._uvl_src = (f, rf, feat)  # its subtree, built by _tree's loop
+        self._src = (f, rf, feat)  # its subtree, built by _tree's loop
         return feat
 
     def _group(self, f: _File, rg, owner: M.Feature) -> M.Group:

@@ -66,6 +66,12 @@ _TOKEN_RE = re.compile(
     re.VERBOSE | re.DOTALL,
 )
 
+# The common physical line, read without the general pattern: indentation (blanks and tabs), one
+# plain or quoted name (or keyword), trailing blanks, the line break.  It makes the very tokens
+# and line the general loop makes (tests/test_uvl_fastpath.py compares them).
+_SIMPLE_LINE_RE = re.compile(
+    r"""([ \t]*)(?:([A-Za-z][A-Za-z0-9_#§%?\\'äüöß;]*)|("[^"\r\n]*"))[ \t]*(?:\r\n|\n|\r)""")
+
 
 @dataclass(slots=True)
 class Tok:
@@ -87,7 +93,7 @@ class TooManyTokens(Exception):
     pass
 
 
-@dataclass
+@dataclass(slots=True)
 class Line:
     """A logical line: its tokens (without layout tokens) and indentation width."""
     indent: int
@@ -98,8 +104,9 @@ class Line:
     keep: int | None = None
 
 
-def tokenize(text: str, max_tokens: int = 0) -> tuple[list[Line], list[LexError]]:
-    """The logical lines of ``text`` and its lexical errors."""
+def tokenize(text: str, max_tokens: int = 0, fast: bool = True) -> tuple[list[Line], list[LexError]]:
+    """The logical lines of ``text`` and its lexical errors.  ``fast=False`` reads every line
+    with the general pattern (the tests compare both)."""
     lines: list[Line] = []
     errors: list[LexError] = []
     kw = KEYWORDS
@@ -107,6 +114,7 @@ def tokenize(text: str, max_tokens: int = 0) -> tuple[list[Line], list[LexError]
     pos = 0
     n = len(text)
     match = _TOKEN_RE.match
+    simple = _SIMPLE_LINE_RE.match
     line_start = 0          # offset of the current physical line
     opened = 0              # bracket depth (line breaks inside brackets do not count)
     cur: list[Tok] | None = None
@@ -135,6 +143,30 @@ def tokenize(text: str, max_tokens: int = 0) -> tuple[list[Line], list[LexError]
             line_start = end
             if opened == 0:
                 cur = None
+                if fast:
+                    # the common lines: one name (or keyword) each
+                    while True:
+                        fm = simple(text, pos)
+                        if fm is None:
+                            break
+                        v = fm.group(2)
+                        if v is not None:
+                            t = Tok(kw.get(v, "ID"), v, fm.start(2), fm.end(2))
+                        else:
+                            v = fm.group(3)
+                            t = Tok("QID", v, fm.start(3), fm.end(3))
+                        ind = fm.group(1)
+                        if "\t" not in ind:
+                            w = len(ind)
+                        elif " " not in ind:
+                            w = 8 * len(ind)  # tabs only
+                        else:
+                            w = _width(text, pos)
+                        lines.append(Line(w, [t], pos))
+                        pos = line_start = fm.end()
+                        ntok += 1
+                        if max_tokens and ntok > max_tokens:
+                            raise TooManyTokens(ntok)
             continue
         if kind == "lcomment":
             continue
