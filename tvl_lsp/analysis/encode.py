@@ -37,6 +37,8 @@ from __future__ import annotations
 
 import hashlib
 from dataclasses import dataclass, field
+from itertools import count as _count
+from operator import eq as _eq
 from typing import Iterable, Optional
 
 from ..base.diagnostics import Diagnostic, Related, Severity, register
@@ -400,10 +402,31 @@ class Encoding(DistributeMixin):
 
     def _encode_constraints(self) -> None:
         v = self.var_of_feature
+        ctx: Optional[tuple] = None
         for f in self.features:
             for c in f.constraints:
                 if getattr(c, "has_errors", False):
                     continue  # the front end reported it: no guess at what it means
+                lits = getattr(c, "lits", None)
+                if lits is not None and c.kind != "ifIn" and c.kind != "ifOut":
+                    # a DIMACS clause (:class:`.dimacs.ClauseConstraint`): its literals as they are,
+                    # numbered as the features are here (shared); a tight loop: 10^6 of them
+                    if ctx is None:
+                        ctx, feats = (self.model, self._line_indexes), self.model.features
+                        add, negate = self.elements.append, int.__neg__
+                        same = all(map(_eq, map(v.__getitem__, feats), _count(1)))
+                        self._clauses = self._determined = None
+                    cl = lits if same else [v[feats[x - 1]] if x > 0 else -v[feats[-x - 1]] for x in lits]
+                    n = len(cl)
+                    if n == 2:
+                        if cl[0] == cl[1] or cl[0] == -cl[1]:
+                            cl = _clean(cl)
+                    elif n > 2:
+                        seen = set(cl)
+                        if len(seen) != n or not seen.isdisjoint(map(negate, cl)):
+                            cl = _clean(cl)  # a repeated literal or a tautology
+                    add(c.element_type(c, [] if cl is None else [cl], ctx))  # label etc. made when read
+                    continue
                 if c.kind == "ifIn":
                     prefix: list[Lit] = [-v[f]]
                 elif c.kind == "ifOut":
