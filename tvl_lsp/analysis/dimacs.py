@@ -18,10 +18,13 @@ from __future__ import annotations
 
 import os
 import re
+from itertools import chain, repeat
 from typing import Optional
 
 from ..base.text import Span, Pos
 from ..tvl import model as M
+from .encode import Element
+from .labels import line_text
 
 
 class DimacsError(ValueError):
@@ -34,6 +37,21 @@ def parse_dimacs(text: str, errors: Optional[list] = None) -> tuple[int, list[li
     Raises :class:`DimacsError` on the first malformed line, unless ``errors`` is a list: then
     each problem is appended to it as ``(line, start column, end column, message)`` and the
     line's bad tokens are skipped."""
+    return _parse(text, errors, False)[:4]
+
+
+def _shift(x: int) -> int:
+    return x + 1 if x > 0 else x - 1 if x < 0 else 0
+
+
+def _parse(text: str, errors: Optional[list], shifted: bool):
+    """:func:`parse_dimacs`'s tuple, then the length of every line (``str.splitlines``' lines)
+    and the ``(line number, line)`` of the lines that start with ``"c "`` (the names' spans).
+    ``shifted``: the clauses over the encoder's variables (DIMACS literal ``x`` is ``x + 1``,
+    ``-x`` is ``-x - 1``: the root is variable 1)."""
+    all_lines = text.splitlines()
+    line_lens = list(map(len, all_lines))
+    c_lines: list[tuple[int, str]] = []
     nvars = 0
     names: dict[int, str] = {}
     clauses: list[list[int]] = []
@@ -48,11 +66,39 @@ def parse_dimacs(text: str, errors: Optional[list] = None) -> tuple[int, list[li
         if len(errors) < 100:
             errors.append((ln, c0, c1, msg))
 
-    for ln, line in enumerate(text.splitlines()):
-        s = line.strip()
-        if not s:
+    lines = enumerate(all_lines)
+    for ln, line in lines:
+        toks = line.split()
+        if not toks:
             continue
+        lead = toks[0][0]
+        if lead != "c" and lead != "p" and lead != "%":
+            # a clause line: all its tokens at once (columns are needed only for a bad token)
+            try:
+                xs = [x + 1 if x > 0 else x - 1 if x else 0 for x in map(int, toks)] if shifted \
+                    else list(map(int, toks))
+            except ValueError:
+                pass
+            else:
+                if not cur and xs[-1] == 0 and xs.count(0) == 1:  # one whole clause
+                    xs.pop()
+                    clauses.append(xs)
+                    lines_of.append(ln)
+                    continue
+                for x in xs:
+                    if not cur:
+                        cur_line = ln
+                    if x == 0:
+                        clauses.append(cur)
+                        lines_of.append(cur_line)
+                        cur = []
+                    else:
+                        cur.append(x)
+                continue
+        s = line.strip()
         if s[0] == "c":
+            if line.startswith("c "):
+                c_lines.append((ln, line))
             parts = s.split(None, 2)
             if len(parts) == 3 and parts[1].isdigit():
                 names[int(parts[1])] = parts[2].strip()
@@ -87,11 +133,14 @@ def parse_dimacs(text: str, errors: Optional[list] = None) -> tuple[int, list[li
                 lines_of.append(cur_line)
                 cur = []
             else:
-                cur.append(x)
+                cur.append(_shift(x) if shifted else x)
+    for ln, line in lines:  # after a '%' line: its names are not read, their spans are
+        if line.startswith("c "):
+            c_lines.append((ln, line))
     if cur:
         clauses.append(cur)
         lines_of.append(cur_line)
-    return nvars, clauses, names, lines_of
+    return nvars, clauses, names, lines_of, line_lens, c_lines
 
 
 def _or_tree(items: list[M.Expr], span: Span, path: str) -> M.Expr:
@@ -107,29 +156,139 @@ def _or_tree(items: list[M.Expr], span: Span, path: str) -> M.Expr:
     return items[0]
 
 
-class _ClauseConstraint(M.Constraint):
-    """A DIMACS clause as a constraint.  The encoder reads ``clause``; the expression (an OR
-    tree of literal nodes) is built only when something asks for it (a conversion, a hover):
-    10^5-10^6 clauses of trees were most of a big DIMACS model's time and memory."""
+class _Clauses:
+    """What the clause constraints of one model share: their owner, file, literal nodes and the
+    length of each line of the file."""
 
-    def __init__(self, clause: list[int], lit, owner: M.Feature, span: Span, path: str):
-        self.kind = "plain"
+    __slots__ = ("owner", "path", "lit", "line_lens")
+
+    def __init__(self, owner: M.Feature, path: str, lit, line_lens: list[int]):
         self.owner = owner
-        self.span = span
         self.path = path
-        self.clause = clause
-        self._lit = lit
+        self.lit = lit
+        self.line_lens = line_lens
+
+
+class ClauseConstraint(M.Constraint):
+    """A DIMACS clause as a constraint.  The encoder reads ``lits``: the clause over the
+    encoder's variables (the root is 1, DIMACS variable ``i`` is ``i + 1``), shared with the
+    encoding rather than copied; ``clause`` (the DIMACS literals, signed indexes into
+    ``Model.features``) is made from it when asked for.  The expression (an OR tree of literal
+    nodes) is built only when something asks for it (a conversion, a hover): 10^5-10^6 clauses
+    of trees were most of a big DIMACS model's time and memory.  For the same reason the span
+    (the clause's first line, whole) is made when asked for, and what all the clauses share is
+    in one :class:`_Clauses`; assigning ``span``, ``owner``, ``path`` or ``clause`` still works
+    (the value is kept on the instance)."""
+
+    __slots__ = ("lits", "_line", "_ctx", "_expr")
+    kind = "plain"
+    has_errors = False
+
+    def __init__(self, lits: list[int], line: int, ctx: _Clauses):
+        self.lits = lits
+        self._line = line
+        self._ctx = ctx
         self._expr: Optional[M.Expr] = None
+
+    @property
+    def clause(self) -> list[int]:  # type: ignore[override]
+        return [x - 1 if x > 0 else x + 1 for x in self.lits]
+
+    @clause.setter
+    def clause(self, value: list[int]) -> None:
+        self.lits = [x + 1 if x > 0 else x - 1 for x in value]
+
+    @property
+    def line_lens(self) -> list[int]:
+        """The length of each line of the file (:func:`.labels.line_text` reads the lines by them)."""
+        return self._ctx.line_lens
+
+    @property
+    def span(self) -> Span:  # type: ignore[override]
+        try:
+            return self._span_set
+        except AttributeError:
+            ln = self._line
+            lens = self._ctx.line_lens
+            return Span(Pos(ln, 0), Pos(ln, lens[ln] if ln < len(lens) else 0))
+
+    @span.setter
+    def span(self, value: Span) -> None:
+        self._span_set = value
+
+    @property
+    def owner(self) -> M.Feature:  # type: ignore[override]
+        try:
+            return self._owner_set
+        except AttributeError:
+            return self._ctx.owner
+
+    @owner.setter
+    def owner(self, value: M.Feature) -> None:
+        self._owner_set = value
+
+    @property
+    def path(self) -> str:  # type: ignore[override]
+        try:
+            return self._path_set
+        except AttributeError:
+            return self._ctx.path
+
+    @path.setter
+    def path(self, value: str) -> None:
+        self._path_set = value
 
     @property
     def expr(self) -> M.Expr:  # type: ignore[override]
         if self._expr is None:
-            self._expr = _or_tree([self._lit(x) for x in self.clause], self.span, self.path)
+            self._expr = _or_tree([self._ctx.lit(x) for x in self.clause], self.span, self.path)
         return self._expr
 
     @expr.setter
     def expr(self, value: M.Expr) -> None:
         self._expr = value
+
+
+_SLOTS = {k: Element.__dict__[k] for k in ("label", "path", "span", "negation")}
+
+
+def _lazy(name: str, make):
+    """A property over Element's slot ``name`` that is filled by ``make(element)`` when first read."""
+    slot = _SLOTS[name]
+
+    def get(self):
+        try:
+            return slot.__get__(self, Element)
+        except AttributeError:
+            value = make(self)
+            slot.__set__(self, value)
+            return value
+    return property(get, slot.__set__)
+
+
+class ClauseElement(Element):
+    """The element of a DIMACS clause (``Constraint.clause``): its label, negation, path and
+    span are made when first read (an explanation, a redundancy check), not for each of
+    10^5-10^6 clauses; they are what :meth:`Encoding._encode_constraints` gives an ordinary
+    constraint."""
+
+    __slots__ = ("_ctx",)
+
+    def __init__(self, c: M.Constraint, clauses: list[list[int]], ctx: tuple):
+        self.kind = "constraint"
+        self.obj = c
+        self.clauses = clauses
+        self.selector = 0
+        self._ctx = ctx  # (model, the encoding's line cache)
+
+    label = _lazy("label", lambda e: f"constraint `{line_text(e._ctx[0], e.obj, e._ctx[1]) or 'constraint'}`")
+    path = _lazy("path", lambda e: e.obj.path)
+    span = _lazy("span", lambda e: e.obj.span)
+    negation = _lazy("negation", lambda e: ([-x for x in e.clauses[0]] if len(e.clauses) == 1
+                                            else [False] if not e.clauses else None))
+
+
+ClauseConstraint.element_type = ClauseElement  # what the encoder makes of one
 
 
 def read_dimacs(text: str, path: str = "model.dimacs"):
@@ -154,8 +313,10 @@ def read_dimacs(text: str, path: str = "model.dimacs"):
 
 
 def dimacs_to_model(text: str, path: str = "model.dimacs", errors: Optional[list] = None) -> M.Model:
-    nvars, clauses, names, lines_of = parse_dimacs(text, errors)
-    maxvar = max([nvars] + [abs(x) for c in clauses for x in c])
+    # the clauses over the encoder's variables (see ClauseConstraint)
+    nvars, clauses, names, lines_of, line_lens, c_lines = _parse(text, errors, True)
+    maxvar = max(nvars, max(chain.from_iterable(clauses), default=1) - 1,
+                 -min(chain.from_iterable(clauses), default=-1) - 1)
     if not nvars:  # no problem line: the comments may name more variables
         maxvar = max([maxvar] + [i for i in names if i <= 10 * maxvar + 1000])
     zero = Span(Pos(0, 0), Pos(0, 0))
@@ -181,7 +342,6 @@ def dimacs_to_model(text: str, path: str = "model.dimacs", errors: Optional[list
         feats.append(f)
         group.children.append(M.GroupChild(f, True, False, zero, path))
     model.features = feats
-    line_lens = [len(x) for x in text.splitlines()]
     # one shared (immutable in practice) literal node per signed variable: the big models have
     # 10^5 literals; literal nodes carry no span (the constraint's span is the clause's line)
     lit_nodes: dict[int, M.Expr] = {}
@@ -197,15 +357,13 @@ def dimacs_to_model(text: str, path: str = "model.dimacs", errors: Optional[list
             lit_nodes[x] = node
         return node
 
-    for c, ln in zip(clauses, lines_of):
-        span = Span(Pos(ln, 0), Pos(ln, line_lens[ln] if ln < len(line_lens) else 0))
-        root.constraints.append(_ClauseConstraint(c, lit, root, span, path))
+    ctx = _Clauses(root, path, lit, line_lens)
+    root.constraints.extend(map(ClauseConstraint, clauses, lines_of, repeat(ctx)))
     # feature name spans: the ``c i name`` comment line when there is one
-    for ln, line in enumerate(text.splitlines()):
-        if line.startswith("c "):
-            parts = line.split(None, 2)
-            if len(parts) == 3 and parts[1].isdigit() and int(parts[1]) <= maxvar:
-                f = feats[int(parts[1])]
-                start = line.index(parts[2], len(parts[0]) + len(parts[1]) + 1)
-                f.name_span = f.span = Span(Pos(ln, start), Pos(ln, start + len(parts[2].rstrip())))
+    for ln, line in c_lines:
+        parts = line.split(None, 2)
+        if len(parts) == 3 and parts[1].isdigit() and int(parts[1]) <= maxvar:
+            f = feats[int(parts[1])]
+            start = line.index(parts[2], len(parts[0]) + len(parts[1]) + 1)
+            f.name_span = f.span = Span(Pos(ln, start), Pos(ln, start + len(parts[2].rstrip())))
     return model

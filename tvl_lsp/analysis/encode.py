@@ -36,13 +36,15 @@ selector literal in the explanation solver.
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass, field
-from typing import Iterable, Optional
+from itertools import count as _count
+from operator import eq as _eq
+from typing import Optional
 
 from ..base.diagnostics import Diagnostic, Related, Severity, register
 from ..base.text import Span, ZERO_SPAN
 from ..tvl import model as M
 from ..base import formula as fm
+from .cnf import Element, _Builder, _clean  # noqa: F401 (Element and _Builder: used from here by others)
 from .distribute import _ALIAS, DistributeMixin, Lit, NotEncodable, _chain, _check_read  # noqa: F401
 from .labels import line_text, source_text  # noqa: F401 (source_text: used from here by others)
 
@@ -56,147 +58,6 @@ MAX_VALUE_PAIRS = 20000
 MAX_DOMAIN = 4096
 # a constraint is distributed into at most this many clauses before Tseitin variables are used
 DISTRIBUTE_MAX = 16
-
-@dataclass(eq=False, slots=True)
-class Element:
-    """A piece of the model that can take part in an explanation."""
-    kind: str  # root | parent-link | mandatory | group | group-lower | constraint | attribute
-    label: str  # plain words: "B is mandatory in A"
-    path: str
-    span: Span
-    obj: object = None
-    clauses: list[list[int]] = field(default_factory=list)
-    selector: int = 0
-    # literals whose conjunction is the negation of the element (for redundancy checks),
-    # None when unknown
-    negation: Optional[list[int]] = None
-
-
-class _Builder:
-    """Literal-level Tseitin builder with constant folding and structural caching."""
-
-    def __init__(self, top: int, hard: list[list[int]]):
-        self.top = top
-        self.hard = hard
-        self._and_cache: dict[frozenset, int] = {}
-
-    def new_var(self) -> int:
-        self.top += 1
-        return self.top
-
-    @staticmethod
-    def not_(x: Lit) -> Lit:
-        if x is True:
-            return False
-        if x is False:
-            return True
-        return -x
-
-    def and_(self, xs: Iterable[Lit]) -> Lit:
-        out: set[int] = set()
-        for x in xs:
-            if x is True:
-                continue
-            if x is False:
-                return False
-            if -x in out:
-                return False
-            out.add(x)
-        if not out:
-            return True
-        if len(out) == 1:
-            return next(iter(out))
-        key = frozenset(out)
-        a = self._and_cache.get(key)
-        if a is None:
-            a = self.new_var()
-            for x in out:
-                self.hard.append([-a, x])
-            self.hard.append([a] + [-x for x in out])
-            self._and_cache[key] = a
-        return a
-
-    def or_(self, xs: Iterable[Lit]) -> Lit:
-        return self.not_(self.and_(self.not_(x) for x in xs))
-
-    def iff(self, a: Lit, b: Lit) -> Lit:
-        return self.and_([self.or_([self.not_(a), b]), self.or_([a, self.not_(b)])])
-
-    def ite(self, c: Lit, a: Lit, b: Lit) -> Lit:
-        return self.or_([self.and_([c, a]), self.and_([self.not_(c), b])])
-
-    def exactly_one(self, lits: list[int]) -> None:
-        if len(lits) == 1:
-            self.hard.append([lits[0]])
-            return
-        self.hard.append(list(lits))
-        self.hard.extend(self.at_most(lits, 1))
-
-    def at_most(self, lits: list[int], k: int) -> list[list[int]]:
-        """Clauses for sum(lits) <= k.  The auxiliary variables are *defined* (hard Tseitin
-        clauses, see :meth:`_counter`), so they are functions of ``lits``: a count of all
-        variables equals the count projected on ``lits`` (what d4 counts)."""
-        n = len(lits)
-        if k >= n:
-            return []
-        if k <= 0:
-            return [[-x] for x in lits]
-        if k == 1 and n <= 5:
-            return [[-lits[i], -lits[j]] for i in range(n) for j in range(i + 1, n)]
-        out: list[list[int]] = []
-        # sequential counter: x_i may not be selected once k of x_1..x_{i-1} are
-        for i, r in enumerate(self._counter(lits[:-1], k)):
-            c = _clean([-lits[i + 1], self.not_(r[k])])
-            if c is not None:
-                out.append(c)
-        return out
-
-    def at_least(self, lits: list[int], k: int) -> list[list[int]]:
-        n = len(lits)
-        if k <= 0:
-            return []
-        if k > n:
-            return [[]]
-        if k == 1:
-            return [list(lits)]
-        if k == n:
-            return [[x] for x in lits]
-        last = None
-        for last in self._counter(lits, k):
-            pass
-        c = _clean([last[k]])
-        return [] if c is None else [c]
-
-    def _counter(self, lits: list[int], k: int):
-        """For each prefix x_1..x_i of ``lits`` (i = 1..n), the list r with r[j] the literal
-        (or constant) "at least j of x_1..x_i are true", j = 0..k, each defined by
-        r_i[j] <-> r_{i-1}[j] || (x_i && r_{i-1}[j-1]) (a sequential counter whose counter
-        variables are functions of the inputs)."""
-        prev: list[Lit] = [True] + [False] * k
-        for x in lits:
-            cur: list[Lit] = [True]
-            for j in range(1, k + 1):
-                cur.append(self.or_([prev[j], self.and_([x, prev[j - 1]])]))
-            prev = cur
-            yield cur
-
-
-def _clean(clause: Iterable[Lit]) -> Optional[list[int]]:
-    """Drop false literals; None when the clause holds (a true literal or x, -x)."""
-    out: list[int] = []
-    seen: set[int] = set()
-    for x in clause:
-        if x is True:
-            return None
-        if x is False:
-            continue
-        if -x in seen:
-            return None
-        if x not in seen:
-            seen.add(x)
-            out.append(x)
-    return out
-
 
 _LOGIC_OPS = {"&&", "||", "->", "<-", "<->", "requires", "excludes"}
 _CMP_OPS = {"==", "!=", "<", "<=", ">", ">="}
@@ -414,10 +275,31 @@ class Encoding(DistributeMixin):
 
     def _encode_constraints(self) -> None:
         v = self.var_of_feature
+        ctx: Optional[tuple] = None
         for f in self.features:
             for c in f.constraints:
                 if getattr(c, "has_errors", False):
                     continue  # the front end reported it: no guess at what it means
+                lits = getattr(c, "lits", None)
+                if lits is not None and c.kind != "ifIn" and c.kind != "ifOut":
+                    # a DIMACS clause (:class:`.dimacs.ClauseConstraint`): its literals as they are,
+                    # numbered as the features are here (shared); a tight loop: 10^6 of them
+                    if ctx is None:
+                        ctx, feats = (self.model, self._line_indexes), self.model.features
+                        add, negate = self.elements.append, int.__neg__
+                        same = all(map(_eq, map(v.__getitem__, feats), _count(1)))
+                        self._clauses = self._determined = None
+                    cl = lits if same else [v[feats[x - 1]] if x > 0 else -v[feats[-x - 1]] for x in lits]
+                    n = len(cl)
+                    if n == 2:
+                        if cl[0] == cl[1] or cl[0] == -cl[1]:
+                            cl = _clean(cl)
+                    elif n > 2:
+                        seen = set(cl)
+                        if len(seen) != n or not seen.isdisjoint(map(negate, cl)):
+                            cl = _clean(cl)  # a repeated literal or a tautology
+                    add(c.element_type(c, [] if cl is None else [cl], ctx))  # label etc. made when read
+                    continue
                 if c.kind == "ifIn":
                     prefix: list[Lit] = [-v[f]]
                 elif c.kind == "ifOut":

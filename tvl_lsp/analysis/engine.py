@@ -222,7 +222,8 @@ class ModelAnalysis:
         if by_hard:
             detect_by = t0 + hard_budget
         detect_secs = None if detect_by is None else max(0.0, detect_by - start)
-        budget_txt = (f"what the file's CPU budget left after reading and encoding it, {detect_secs:.2g} s"
+        budget_txt = ("" if detect_secs is None else
+                      f"what the file's CPU budget left after reading and encoding it, {detect_secs:.2g} s"
                       if by_hard else f"{detect_secs:.3g} s")
         bb = an.backbone(detect_by)
         fo = (an.false_optional(detect_by) if self.model.format != "dimacs" else []) if bb is not None else None

@@ -23,14 +23,18 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import partial
+from itertools import compress, filterfalse
+from operator import and_, eq, neg, not_
 from typing import Iterable, Iterator, Optional, Sequence
 
 from pysat.card import ITotalizer
-from .sat import BoundedSolver as Solver
+from pysat.solvers import Glucose4
 
 from ..base import formula as fm
 from ..tvl import model as M
 from .choices import value_literal
+from .sat import BoundedSolver as Solver
 from .encode import Element, Encoding, _Builder
 
 SOLVER = "glucose4"
@@ -52,6 +56,25 @@ class Anomalies:
     false_optional: list[tuple[M.Feature, M.Feature]] = field(default_factory=list)
     redundant: list[Element] = field(default_factory=list)
     always_false: list[Element] = field(default_factory=list)
+
+
+def add_clauses(s: Solver, clauses: Iterable[Sequence[int]]) -> None:
+    """``s.append_formula(clauses)``: the same clauses in the same order, but on Glucose 4 without
+    pysat's two Python calls per clause (10^6 clauses: about 0.5 s less)."""
+    inner = s.solver
+    if type(inner) is not Glucose4 or not inner.glucose:
+        s.append_formula(clauses)
+        return
+    import pysolvers  # pysat's C module (what Glucose4.add_clause calls)
+    if not min(map(partial(pysolvers.glucose41_add_cl, inner.glucose), clauses), default=True):
+        inner.status = False  # as Glucose4.add_clause does when a clause makes the formula false
+
+
+def new_solver(clauses: Iterable[Sequence[int]] = ()) -> Solver:
+    """``Solver(name=SOLVER, bootstrap_with=clauses)``, with :func:`add_clauses`."""
+    s = Solver(name=SOLVER)
+    add_clauses(s, clauses)
+    return s
 
 
 def backbone_of(s: Solver, cand: dict[int, bool], assumptions: list[int], record=None,
@@ -77,11 +100,13 @@ def backbone_of(s: Solver, cand: dict[int, bool], assumptions: list[int], record
             return None
         top += 1
         act = top
-        s.add_clause([-act] + [(-v if val else v) for v, val in cand.items()])
-        phases = [(-v if val else v) for v, val in cand.items()]
+        flips = [(-v if val else v) for v, val in cand.items()]
+        s.add_clause([-act] + flips)
+        phases = flips
         if m is not None and n_features is not None:
-            phases += [-abs(x) for x in m[:n_features] if abs(x) not in cand]
-            phases += [-x for x in m[n_features:]]
+            # (a model lists every variable in order: abs(m[i]) == i + 1)
+            phases += map(neg, filterfalse(cand.__contains__, range(1, min(n_features, len(m)) + 1)))
+            phases += map(neg, m[n_features:])
         s.set_phases(phases)
         ok = s.solve(assumptions=assumptions + [act])
         m = s.get_model() if ok else None
@@ -90,8 +115,9 @@ def backbone_of(s: Solver, cand: dict[int, bool], assumptions: list[int], record
             break
         if record is not None:
             record(m)
-        for v in [v for v, val in cand.items() if (m[v - 1] > 0) != val]:
-            del cand[v]
+        # keep the candidates v with (m[v - 1] > 0) == cand[v]
+        kept = map(eq, map((0).__lt__, map(m.__getitem__, map((-1).__add__, cand))), cand.values())
+        cand = dict(compress(cand.items(), kept))
     return cand
 
 
@@ -102,6 +128,7 @@ class Analyzer:
         self._sel: Optional[Solver] = None
         self._sel_of: dict[int, Element] = {}
         self._selectors: list[int] = []
+        self._selector_range = range(0)  # the same numbers (a cheap membership test)
         self._backbone: Optional[dict[int, bool]] = None
         self._void: Optional[bool] = None
         self._seen_true: set[int] = set()
@@ -109,7 +136,7 @@ class Analyzer:
         self._witness: Optional[list[int]] = None
         self._opt_pairs: Optional[list] = None
         self._witnessed: set[tuple[int, int]] = set()
-        self._pending: Optional[list[tuple[int, int]]] = None
+        self._pending: Optional[tuple[list[tuple[int, int]], list[int], list[int]]] = None
         self._hard_index: Optional[dict[int, list[int]]] = None
         self._hard_always: list[int] = []
 
@@ -117,21 +144,26 @@ class Analyzer:
     @property
     def plain(self) -> Solver:
         if self._plain is None:
-            self._plain = Solver(name=SOLVER, bootstrap_with=self.enc.clauses())
+            self._plain = new_solver(self.enc.clauses())
         return self._plain
 
     @property
     def selector_solver(self) -> Solver:
         if self._sel is None:
-            s = Solver(name=SOLVER, bootstrap_with=self.enc.hard)
+            s = new_solver(self.enc.hard)
+            elements = self.enc.elements
             top = self.enc.nvars
-            for e in self.enc.elements:
-                top += 1
-                e.selector = top
-                self._sel_of[top] = e
-                self._selectors.append(top)
-                for c in e.clauses:
-                    s.add_clause(c + [-top])
+            sels = range(top + 1, top + 1 + len(elements))
+            self._sel_of.update(zip(sels, elements))
+            self._selectors.extend(sels)
+            self._selector_range = sels
+
+            def guarded():  # each element's clauses with !s_e, in order
+                for t, e in zip(sels, elements):
+                    e.selector = t
+                    for c in e.clauses:
+                        yield [*c, -t]
+            add_clauses(s, guarded())
             self._sel = s
         return self._sel
 
@@ -153,21 +185,23 @@ class Analyzer:
         n = self.enc.n_features
         if seen:
             head = model[:n]
-            self._seen_true.update([x for x in head if x > 0])
-            self._seen_false.update([-x for x in head if x <= 0])
+            self._seen_true.update(filter((0).__lt__, head))
+            self._seen_false.update(map(neg, filter((0).__gt__, head)))
         # model-based filter for false-optional: this product shows "parent without child"
+        # (the pending pairs, their parents' and their children's indexes in a model: the tests
+        # are C loops, 10^5 pairs in a flat model)
         if self._pending is None:
-            self._pending = [(pv, fv) for pv, fv, _, _ in self._optional_pairs()]
-        keep = []
-        witness = self._witnessed.add
-        kept = keep.append
-        for pair in self._pending:
-            pv, fv = pair
-            if model[pv - 1] > 0 and model[fv - 1] < 0:
-                witness(pair)
-            else:
-                kept(pair)
-        self._pending = keep
+            pairs = [(pv, fv) for pv, fv, _, _ in self._optional_pairs()]
+            self._pending = (pairs, [pv - 1 for pv, _ in pairs], [fv - 1 for _, fv in pairs])
+        pairs, pidx, fidx = self._pending
+        if not pairs:
+            return
+        get = model.__getitem__
+        shown = list(map(and_, map((0).__lt__, map(get, pidx)), map((0).__gt__, map(get, fidx))))
+        if True in shown:
+            self._witnessed.update(compress(pairs, shown))
+            keep = list(map(not_, shown))
+            self._pending = (list(compress(pairs, keep)), list(compress(pidx, keep)), list(compress(fidx, keep)))
 
     # ------------------------------------------------------------------ detection
     def is_void(self) -> bool:
@@ -319,7 +353,7 @@ class Analyzer:
         sels = self._selectors if among is None else among
         if s.solve(assumptions=extra + sels):
             return None
-        selset = set(sels)
+        selset = self._selector_range if among is None else set(sels)
         core = sorted({x for x in (s.get_core() or []) if x in selset})
         # shrink by deletion in a small solver that holds only the core's elements: every
         # candidate set is a subset of the core, and a small solver answers "satisfiable"
@@ -406,7 +440,7 @@ def decide(enc: Encoding, assumptions: Sequence[int]) -> tuple[Optional[list[int
     """Can the decisions (feature literals ``assumptions``) hold together?  ``(conflict, {})``
     with a minimal subset of them that cannot (every kept literal is necessary), or
     ``(None, forced)`` with every undecided feature variable they force (var -> value)."""
-    s = Solver(name=SOLVER, bootstrap_with=enc.clauses())
+    s = new_solver(enc.clauses())
     try:
         assumptions = list(assumptions)
         if not s.solve(assumptions=assumptions):
@@ -442,7 +476,7 @@ class PairLogic:
 
     def __init__(self, encoding=None, free_names: Iterable[str] = ()):
         self.enc = encoding
-        self.solver = Solver(name=SOLVER, bootstrap_with=encoding.clauses() if encoding is not None else [])
+        self.solver = new_solver(encoding.clauses() if encoding is not None else [])
         # the encoder's Tseitin builder (constant folding, structural caching); the clauses it
         # defines are handed to the incremental solver as they appear (see _flush)
         self._b = _Builder(encoding.nvars if encoding is not None else 0, [])
@@ -606,7 +640,7 @@ class PairLogic:
 
 # ---------------------------------------------------------------------------- products
 def _product_solver(enc: Encoding, lits: Sequence[int], extra: Sequence[Sequence[int]] = ()) -> Solver:
-    s = Solver(name=SOLVER, bootstrap_with=enc.clauses())
+    s = new_solver(enc.clauses())
     for x in lits:
         s.add_clause([x])
     for c in extra:
