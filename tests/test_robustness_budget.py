@@ -246,3 +246,32 @@ def test_attributes_that_restrict_their_owner_still_count(tmp_path):
     assert _dead("root A { group someOf { B { int c in [0..3], ifIn: is 7; }, C } }\n", tmp_path) \
         == ["value-out-of-domain:0"]
     assert _dead("root A { group someOf { B { int c in [0..3]; int d is 4; }, C } }\n", tmp_path) == []
+
+
+@pytest.mark.parametrize("text,line", [("p cnf 1000000000 1\n1 -2 0\n", 0),
+                                       ("p cnf 3 1\n1 -9223372036854775808 0\n", 1)])
+def test_a_dimacs_file_asking_for_a_billion_variables_is_refused(tmp_path, text, line):
+    """Every DIMACS variable is a feature: a problem line declaring 10^9 variables, or one
+    literal 2^63, made --check allocate gigabytes (the memory budget caught it) and ``count``
+    was killed by the system."""
+    f = tmp_path / "bomb.dimacs"
+    f.write_text(text)
+    p, diags, cpu = run_check(f)
+    assert [(d["code"], d["range"]["start"]["line"]) for d in diags] == [("file-too-large", line)], diags
+    assert cpu < 3
+    q = subprocess.run([sys.executable, "-m", "tvl_lsp", "count", str(f)], capture_output=True, text=True,
+                       timeout=60, preexec_fn=_cpu_limit)
+    assert q.returncode == 2 and "not analysed" in q.stderr and "Traceback" not in q.stderr, q.stderr
+
+
+@pytest.mark.parametrize("cmd", [["count"], ["sample", "--t", "2"], ["convert", "OUT"]])
+def test_the_model_commands_read_regular_files_only(tmp_path, cmd):
+    """``count /dev/zero`` (or a model that is a link to it) ran out of memory with a traceback:
+    the commands read their model as --check does (base/files.py)."""
+    link = tmp_path / "m.tvl"
+    link.symlink_to("/dev/zero")
+    args = [str(link) if a == "cmd" else a for a in cmd[1:]]
+    args = [str(tmp_path / "out.uvl") if a == "OUT" else a for a in args]
+    q = subprocess.run([sys.executable, "-m", "tvl_lsp", cmd[0], str(link), *args], capture_output=True,
+                       text=True, timeout=60, preexec_fn=_cpu_limit)
+    assert q.returncode == 2 and "not a regular file" in q.stderr and "Traceback" not in q.stderr, q.stderr

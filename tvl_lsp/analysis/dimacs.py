@@ -299,8 +299,9 @@ def read_dimacs(text: str, path: str = "model.dimacs"):
     model = dimacs_to_model(text, path, errors)
     syntax = register("syntax-error", Severity.ERROR, "the text does not follow the TVL grammar", "tvl")
     dup = register("duplicate-feature-name", Severity.ERROR, "two features of a UVL model have the same name", "uvl")
-    diags = [Diagnostic(syntax, Severity.ERROR, path, Span(Pos(ln, c0), Pos(ln, c1)), msg)
-             for ln, c0, c1, msg in errors]
+    too_large = register("file-too-large", Severity.ERROR, "a file too large to analyse", "tvl")
+    diags = [Diagnostic(too_large if e[4:] == ("file-too-large",) else syntax, Severity.ERROR, path,
+                        Span(Pos(e[0], e[1]), Pos(e[0], e[2])), e[3]) for e in errors]
     first: dict[str, M.Feature] = {}
     for f in model.features[1:]:
         if f.name in first and f.name_span != Span(Pos(0, 0), Pos(0, 0)):
@@ -312,6 +313,22 @@ def read_dimacs(text: str, path: str = "model.dimacs"):
     return model, diags
 
 
+MAX_VARIABLES = 1_000_000  # the biggest industrial model has 14,010; every variable is a feature
+
+
+def _too_large_at(text: str, nvars: int, clauses, lines_of, line_lens) -> tuple[int, int, int]:
+    """(line, start, end) of what makes the model too large: its problem line, or the first
+    clause with a variable past the cap (clauses are over the encoder's numbers: ``x + 1``)."""
+    if nvars > MAX_VARIABLES:
+        for ln, line in enumerate(text.splitlines()):
+            if line.lstrip().startswith("p"):
+                return ln, len(line) - len(line.lstrip()), len(line.rstrip())
+    for c, ln in zip(clauses, lines_of):
+        if any(abs(x) - 1 > MAX_VARIABLES for x in c):
+            return ln, 0, line_lens[ln] if ln < len(line_lens) else 0
+    return 0, 0, 0
+
+
 def dimacs_to_model(text: str, path: str = "model.dimacs", errors: Optional[list] = None) -> M.Model:
     # the clauses over the encoder's variables (see ClauseConstraint)
     nvars, clauses, names, lines_of, line_lens, c_lines = _parse(text, errors, True)
@@ -319,6 +336,14 @@ def dimacs_to_model(text: str, path: str = "model.dimacs", errors: Optional[list
                  -min(chain.from_iterable(clauses), default=-1) - 1)
     if not nvars:  # no problem line: the comments may name more variables
         maxvar = max([maxvar] + [i for i in names if i <= 10 * maxvar + 1000])
+    if maxvar > MAX_VARIABLES:
+        # ``p cnf 1000000000 1`` (or one literal 2^63) asked for a feature per variable: gigabytes
+        msg = (f"the model has {maxvar:,} variables: models of more than {MAX_VARIABLES:,} variables are "
+               "not analysed")
+        if errors is None:
+            raise DimacsError(msg)
+        errors.append(_too_large_at(text, nvars, clauses, lines_of, line_lens) + (msg, "file-too-large"))
+        clauses, lines_of, names, maxvar = [], [], {}, 0
     zero = Span(Pos(0, 0), Pos(0, 0))
     stem = re.sub(r"\W", "_", os.path.splitext(os.path.basename(path))[0]) or "model"
     if stem[0].isdigit():

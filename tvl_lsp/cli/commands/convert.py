@@ -47,10 +47,10 @@ def main(argv: list[str]) -> int:
         print(f"tvl-lsp convert: {args.input} is already {src_fmt.upper()}", file=sys.stderr)
         return 2
     try:
-        with open(args.input, encoding="utf-8", errors="replace") as fh:
-            text = fh.read()
+        from ...base.files import read_text  # regular files only, within the size cap
+        text = read_text(args.input)
     except OSError as ex:
-        print(f"tvl-lsp convert: cannot read {args.input}: {ex.strerror}", file=sys.stderr)
+        print(f"tvl-lsp convert: cannot read {args.input}: {getattr(ex, 'reason', None) or ex.strerror}", file=sys.stderr)
         return 2
     res = parse_any_model(text, args.input)
     if res.errors:

@@ -38,8 +38,12 @@ class _DimacsModel:
     def __init__(self, path: str, text: str):
         from ...analysis.counting import CNFCounter
         from ...analysis.dimacs import parse_dimacs
+        from ...analysis.dimacs import MAX_VARIABLES
         nvars, clauses, names, _ = parse_dimacs(text)
         self.n = max([nvars] + [abs(x) for c in clauses for x in c] + list(names))
+        if self.n > MAX_VARIABLES:
+            raise ValueError(f"the model has {self.n:,} variables: models of more than {MAX_VARIABLES:,} "
+                             "variables are not analysed")
         stem = re.sub(r"\W", "_", os.path.splitext(os.path.basename(path))[0]) or "model"
         if stem[0].isdigit():
             stem = "_" + stem
@@ -117,8 +121,8 @@ class _TvlModel:
 def load(path: str, need_unique_names: bool = True):
     """(model, parse errors) for a ``.tvl`` / ``.uvl`` model or a DIMACS CNF.  Raises OSError or
     ValueError."""
-    with open(path, encoding="utf-8", errors="replace") as fh:
-        text = fh.read()
+    from ...base.files import read_text  # regular files only, within the size cap
+    text = read_text(path)
     if path.endswith((".dimacs", ".cnf")):
         m = _DimacsModel(path, text)
         if m.unique or not need_unique_names:
@@ -160,7 +164,7 @@ def main(argv: list[str]) -> int:
     try:
         m, errors = load(args.model)
     except OSError as ex:
-        print(f"tvl-lsp count: cannot read {args.model}: {ex.strerror}", file=sys.stderr)
+        print(f"tvl-lsp count: cannot read {args.model}: {getattr(ex, 'reason', None) or ex.strerror}", file=sys.stderr)
         return 2
     except ValueError as ex:
         print(f"tvl-lsp count: {args.model}: {ex}", file=sys.stderr)

@@ -65,10 +65,9 @@ def main(argv: list[str]) -> int:
             return 2
         model = models[0]
     try:
-        with open(model, encoding="utf-8", errors="replace") as fh:
-            mtext = fh.read()
-        with open(launch, encoding="utf-8", errors="replace") as fh:
-            ltext = fh.read()
+        from ...base.files import read_text  # regular files only, within the size cap
+        mtext = read_text(model)
+        ltext = read_text(launch)
     except OSError as ex:
         print(f"tvl-lsp generate: {ex}", file=sys.stderr)
         return 2

@@ -45,8 +45,8 @@ def main(argv: list[str]) -> int:
     from .count import report_errors
     t0 = time.monotonic()
     try:
-        with open(args.model, encoding="utf-8", errors="replace") as fh:
-            text = fh.read()
+        from ...base.files import read_text  # regular files only, within the size cap
+        text = read_text(args.model)
         if args.model.endswith((".dimacs", ".cnf")):
             a, errors = ModelAnalysis.from_dimacs(text, args.model), []
         else:
@@ -56,7 +56,7 @@ def main(argv: list[str]) -> int:
                 raise ValueError("no model could be read")
             a, errors = ModelAnalysis(res.model), res.errors
     except OSError as ex:
-        print(f"tvl-lsp sample: cannot read {args.model}: {ex.strerror}", file=sys.stderr)
+        print(f"tvl-lsp sample: cannot read {args.model}: {getattr(ex, 'reason', None) or ex.strerror}", file=sys.stderr)
         return 2
     except ValueError as ex:
         print(f"tvl-lsp sample: {args.model}: {ex}", file=sys.stderr)
