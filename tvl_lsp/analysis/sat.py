@@ -21,6 +21,10 @@ from pysat.solvers import Solver
 
 _local = threading.local()
 POLL_SECONDS = 0.05  # how often the watchdog looks at the CPU clock
+# Glucose looks at an interrupt only between two restarts, which grow apart on a hard instance
+# (a 1 s limit stopped a pigeonhole formula after 2 s; MiniSat stops at once): the solvers are
+# interrupted this long before the block's CPU time is spent, so that the block ends within it
+SOLVER_LATENCY = 1.0
 
 
 class SolverInterrupted(BaseException):  # like the CPU budget's exception: no "except Exception" swallows it
@@ -43,8 +47,9 @@ class _Watch:
         self._thread.start()
 
     def _run(self) -> None:
+        at = self.cpu_deadline - min(SOLVER_LATENCY, self.seconds / 4)
         while not self._stop.wait(POLL_SECONDS):
-            if time.process_time() >= self.cpu_deadline:
+            if time.process_time() >= at:
                 with self._lock:
                     self.fired = True
                     if self.current is not None:
