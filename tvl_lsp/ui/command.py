@@ -69,17 +69,36 @@ def main(argv: list[str]) -> int:
     except (KeyboardInterrupt, _Stop):
         pass
     finally:
-        httpd.server_close()  # stops the checking worker process too
+        _close_within(httpd, CLOSE_SECONDS)
     print("tvl-lsp ui: stopped", file=sys.stderr)
     sys.stdout.flush()
     sys.stderr.flush()
     # nothing is left to save; do not wait for a background session build or a graph layout
-    # still running in a thread.  os._exit skips the finalizers that unregister the checking
-    # pool's semaphores: run them first, or the resource tracker warns of "leaked semaphore
-    # objects" after every Ctrl-C
-    try:
-        from multiprocessing import util as mp_util
-        mp_util._run_finalizers(0)
-    except Exception:
-        pass
+    # still running in a thread
     os._exit(0)
+
+
+CLOSE_SECONDS = 10.0
+
+
+def _close_within(httpd, seconds: float) -> None:
+    """Stop the server and its checking worker process, then run the finalizers that unregister
+    the pool's semaphores (os._exit skips them, and the resource tracker warned of "leaked
+    semaphore objects" after every Ctrl-C) -- in a thread, for at most ``seconds``: a worker
+    still being spawned when the stop came is waited for by the pool's shutdown, and the
+    process must stop all the same (CI saw it outlive a 20 s wait once)."""
+    import threading
+
+    def close():
+        try:
+            httpd.server_close()  # stops the checking worker process too
+        except Exception:
+            pass
+        try:
+            from multiprocessing import util as mp_util
+            mp_util._run_finalizers(0)
+        except Exception:
+            pass
+    t = threading.Thread(target=close, name="tvl-lsp-ui-close", daemon=True)
+    t.start()
+    t.join(seconds)
