@@ -169,11 +169,10 @@ class ModelAnalysis:
         enc = self.encoding
         an = self.analyzer
         start = time.monotonic()
-        if hard_budget is not None:
-            time_budget = hard_budget if time_budget is None else min(time_budget, hard_budget)
+        hard_by = None if hard_budget is None else t0 + hard_budget
         deadline = None if time_budget is None else start + time_budget
-        if hard_budget is not None:
-            deadline = min(deadline, t0 + hard_budget)
+        if hard_by is not None and (deadline is None or hard_by < deadline):
+            deadline = hard_by
         out: list[Diagnostic] = list(enc.diagnostics())
 
         def related(ex: Optional[Explanation]) -> list[Related]:
@@ -218,13 +217,14 @@ class ModelAnalysis:
         # the budget is the explanations'; finding the anomalies gets at least MIN_DETECTION s
         # (milliseconds on ordinary models), then stops and says so rather than overrun
         detect_by = None if time_budget is None else start + max(time_budget, MIN_DETECTION)
-        by_hard = hard_budget is not None and (detect_by is None or t0 + hard_budget < detect_by)
+        by_hard = hard_by is not None and (detect_by is None or hard_by < detect_by)
         if by_hard:
-            detect_by = t0 + hard_budget
-        detect_secs = None if detect_by is None else max(0.0, detect_by - start)
-        budget_txt = ("" if detect_secs is None else
-                      f"what the file's CPU budget left after reading and encoding it, {detect_secs:.2g} s"
-                      if by_hard else f"{detect_secs:.3g} s")
+            detect_by = hard_by
+        detect_secs = max(0.0, detect_by - start) if detect_by is not None else 0.0
+        if by_hard:
+            budget_txt = f"what the file's CPU budget left after reading and encoding it, {detect_secs:.2g} s"
+        else:
+            budget_txt = f"{detect_secs:.3g} s"
         bb = an.backbone(detect_by)
         fo = (an.false_optional(detect_by) if self.model.format != "dimacs" else []) if bb is not None else None
         if bb is None or fo is None:

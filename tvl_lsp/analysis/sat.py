@@ -29,7 +29,8 @@ SOLVER_LATENCY = 1.0
 
 class SolverInterrupted(BaseException):  # like the CPU budget's exception: no "except Exception" swallows it
     def __init__(self, seconds: float):
-        super().__init__(f"more than {seconds:g} s of CPU time")
+        self.what = f"more than {seconds:g} s of CPU time"
+        super().__init__(self.what)
         self.seconds = seconds
 
 

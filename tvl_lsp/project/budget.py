@@ -174,17 +174,12 @@ def limited(path: str, run: Callable[[], list], seconds: Optional[float] = CPU_S
                 reserve[0] = None
             raise
 
-    what = None
     try:
         with cpu_limit(seconds if threading.current_thread() is threading.main_thread() else None), \
                 _cpu_budget(seconds):
             return guarded()
-    except MemoryError as exc:
-        what = "more memory than it may use"
-        if keep is not None:
-            keep.append(exc)
-    except (BudgetExceeded, SolverInterrupted) as exc:
-        what = str(exc) if isinstance(exc, SolverInterrupted) else exc.what
+    except (MemoryError, BudgetExceeded, SolverInterrupted) as exc:
+        what = "more memory than it may use" if isinstance(exc, MemoryError) else exc.what
         if keep is not None:
             keep.append(exc)
     finally:
@@ -194,7 +189,6 @@ def limited(path: str, run: Callable[[], list], seconds: Optional[float] = CPU_S
             gc.freeze()  # what the check made is dropped at the end, not scanned by the collector first
         if was_enabled:
             gc.enable()
-    got = list(progress.diagnostics) if progress is not None else []
     if progress is None:
         return [exceeded(path, what)]
-    return got + [exceeded(path, what, progress.done, progress.rest)]
+    return list(progress.diagnostics) + [exceeded(path, what, progress.done, progress.rest)]

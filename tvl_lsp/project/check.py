@@ -84,11 +84,9 @@ def _load_model(path: str, read_file: ReadFile, text: Optional[str] = None,
         left = budget.remaining()
         hard = None if left is None else max(0.0, left - SAT_RESERVE)
         try:
-            diags += analysis.anomalies(time_budget=timeout if hard is None or timeout is None else min(timeout, hard),
-                                        hard_budget=hard)
-        except MemoryError:
-            raise  # the file's budget: analysis-budget-exceeded, with what progress holds
-        except Exception as exc:  # an analysis bug must not hide the parse diagnostics
+            diags += analysis.anomalies(time_budget=timeout, hard_budget=hard)
+        except Exception as exc:  # an analysis bug must not hide the parse diagnostics (_internal
+            # raises a MemoryError again: the file's budget, reported with what progress holds)
             diags.append(_internal(path, f"model analysis failed: {exc!r}"))
     return _ModelInfo(path, res.model, diags, analysis, has_errors)
 
@@ -135,10 +133,10 @@ STRUCTURAL = frozenset({"syntax-error", "illegal-character", "unterminated-comme
 
 
 def check_model(path: str, text: Optional[str] = None, read_file: Optional[ReadFile] = None,
-                timeout: Optional[float] = 10.0) -> list[Diagnostic]:
+                timeout: Optional[float] = 10.0, progress: Optional[budget.Progress] = None) -> list[Diagnostic]:
     """A model's own diagnostics: syntax, types, and anomalies (void model, dead and
     false-optional features, ...)."""
-    info = _load_model(path, read_file or default_read_file, text, True, timeout)
+    info = _load_model(path, read_file or default_read_file, text, True, timeout, progress)
     if info is None:
         d = _unreadable(path)
         return [d] if d else []
@@ -341,9 +339,7 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
     except Exception as exc:
         out.append(_internal(unit.model or "", f"check failed: {exc!r}"))
     if KEEP_LAST:
-        import gc
-        _KEPT.append(models)
-        gc.freeze()  # kept objects are not rescanned by the collector either
+        _KEPT.append(models)  # (what the checks made was frozen out of the collector by budget.limited)
     return out
 
 
@@ -553,11 +549,7 @@ def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile
         d = _unreadable(path)
         return [d] if d else []
     if is_model(path):
-        info = _load_model(path, read, text, True, timeout, progress)
-        if info is None:
-            d = _unreadable(path)
-            return [d] if d else []
-        return _dedupe_sort(info.diagnostics)
+        return _dedupe_sort(check_model(path, text, read, timeout, progress))
     if is_launch(path) or (is_xml_launch_candidate(path) and launch_root_text(text)):
         rts = _roots_for(path, roots)
         ws = workspace or _workspace(rts, read)
