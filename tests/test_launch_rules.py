@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 from tvl_lsp.base.formula import FALSE, TRUE, Var, conj, evaluate, neg
+from tvl_lsp.base import formula as fm
 from tvl_lsp.base.diagnostics import CODES
 from tvl_lsp.launch import analyse_launch, check_launch, load_launch
 
@@ -62,10 +63,15 @@ def test_eval_conditions_translate_to_formulas():
 
 
 def test_unanalysable_eval_is_an_information_not_a_guess():
-    a = L('<node pkg="p" type="t" name="n" if="$(eval some.attribute)"/>')
+    a = L('<node pkg="p" type="t" name="n" if="$(eval some.attribute)"/>'
+          '<node pkg="p" type="t" name="n" unless="$(eval some.attribute)"/>')
     infos = facts(a, "condition-not-analysable")
-    assert len(infos) == 1 and infos[0].severity == 3
-    assert [n.condition for n in a.nodes] == [TRUE]
+    assert len(infos) == 2 and {f.severity for f in infos} == {3}   # one note on each value
+    # the node's condition is an unknown (neither always nor never loaded), the same one for
+    # both tags: if= and unless= of it exclude each other (no duplicate-node), no error
+    (u,) = {str(n.condition).lstrip("!") for n in a.nodes}
+    assert fm.is_unknown(u) and a.nodes[1].condition == neg(a.nodes[0].condition)
+    assert [f for f in a.facts if f.severity == 1] == []
 
 
 def test_invalid_condition_and_if_with_unless():

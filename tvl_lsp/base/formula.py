@@ -194,3 +194,38 @@ def substitute(f: Formula, env: Mapping[str, Formula]) -> Formula:
     if isinstance(f, Or):
         return disj(substitute(a, env) for a in f.args)
     return f
+
+
+# ------------------------------------------------------------------ unknowns
+
+# A condition a launch front end cannot evaluate (an ``if`` reading an ``$(eval)`` it cannot
+# compute, a value whose evaluation failed) is an *unknown*: a variable of its own, named with
+# this prefix (no arg or feature name starts with it), so that ``if`` and ``unless`` of the same
+# unknown value exclude each other.  An error whose condition reads unknowns is reported only
+# where it holds whatever they are (:func:`forall_unknowns`): an unknown never makes an error.
+UNKNOWN_PREFIX = "?"
+MAX_UNKNOWNS = 8  # a condition over more unknowns than this is treated as never certain
+
+
+def unknown(key: str) -> Formula:
+    """The unknown variable named ``?key``."""
+    return Var(UNKNOWN_PREFIX + key)
+
+
+def is_unknown(name: str) -> bool:
+    return name.startswith(UNKNOWN_PREFIX)
+
+
+def forall_unknowns(f: Formula) -> Formula:
+    """``f`` with its unknowns universally quantified: where ``f`` holds whatever their
+    values (FALSE over more than :data:`MAX_UNKNOWNS` of them)."""
+    us = sorted(v for v in variables(f) if is_unknown(v))
+    if not us:
+        return f
+    if len(us) > MAX_UNKNOWNS:
+        return FALSE
+    for u in us:
+        f = conj([substitute(f, {u: TRUE}), substitute(f, {u: FALSE})])
+        if f == FALSE:
+            return FALSE
+    return f

@@ -49,6 +49,7 @@ SUBST_ARITY = _reg("substitution-arity", E, "Wrong number of arguments to a $(..
 EVAL_ERROR = _reg("eval-error", E, "A $(eval ...) expression fails")
 ENV_NOT_SET = _reg("env-not-set", E, "$(env X) where X is not set in tvl-lsp's environment")
 PACKAGE_NOT_FOUND = _reg("package-not-found", E, "$(find pkg) of a package roslaunch cannot find")
+PACKAGE_AMBIGUOUS = _reg("package-ambiguous", I, "$(find pkg) of a package name that several folders hold")
 CONDITION_NOT_ANALYSABLE = _reg("condition-not-analysable", I, "A condition tvl-lsp cannot translate to a formula")
 INCLUDE_NOT_FOUND = _reg("include-not-found", E, "An included file does not exist")
 INCLUDE_INVALID = _reg("include-invalid", E, "An included file is not a valid launch file")

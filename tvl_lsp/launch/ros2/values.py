@@ -13,7 +13,7 @@ from typing import Mapping, Optional
 import yaml
 from ...base import yamlsafe
 
-from ...base.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, disj
+from ...base.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, disj, forall_unknowns
 from ...base.diagnostics import Severity, register
 from ...base.text import Span
 from ..model import Element, ErrorFact, NodeFact
@@ -187,8 +187,12 @@ def merge_facts(facts: list) -> list:
             for r in f.related:
                 if r not in g.related:
                     g.related.append(r)
-    # the cross-check asks the SAT service about each fact anyway: here only the cheap cases
-    return [f for f in out.values() if satisfiable(f.condition, limit=8) is not False]
+    # an error is reported only where it holds whatever the unknowns are (an if/unless value
+    # tvl-lsp cannot compute is never the cause of an error); the cross-check asks the SAT
+    # service about each fact anyway: here only the cheap cases
+    for f in out.values():
+        f.condition = forall_unknowns(f.condition)
+    return [f for f in out.values() if f.condition != FALSE and satisfiable(f.condition, limit=8) is not False]
 
 
 class Stop(Exception):

@@ -25,7 +25,7 @@ import os
 import threading
 from typing import Mapping, Optional
 
-from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
+from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg, unknown
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import Span
 from ...base.files import inside, is_regular, read_text_or_none
@@ -118,6 +118,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         # (path, span) of if/unless values that are unknown in some case (a configuration an
         # includer sets, $(command) ...): such a condition is neither dead nor constant
         self.unknown_conditions: list = []
+        self.unknowns: dict = {}   # (file, value) -> the unknown of an if/unless tvl-lsp cannot compute
         self.declared_names: dict[str, set[str]] = {}   # file -> the names it declares
         self._extensions: Optional[dict] = None
 
@@ -286,9 +287,18 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         span = cond.value.span() or el.tag_span
         for c, v in cases:
             if opaque(v):
-                ok.append(c)
-                if not self.concrete:
-                    self.unknown_conditions.append((el.path, span))
+                if self.concrete:
+                    ok.append(c)
+                    continue
+                # an unknown, the same for every if/unless of that value (they exclude each
+                # other); an error that depends on it is never reported (merge_facts)
+                k = (el.path, v)
+                u = self.unknowns.get(k)
+                if u is None:
+                    raw = str(cond.value.attr.value).strip()[:60] if cond.value.attr is not None else cond.kind
+                    u = self.unknowns[k] = unknown(f"{len(self.unknowns) + 1}:{raw}")
+                ok.append(conj([c, u if cond.kind == "if" else neg(u)]))
+                self.unknown_conditions.append((el.path, span))
                 continue
             b = cond_value(v)
             if b is None:
