@@ -51,6 +51,7 @@ INCLUDE_TOO_DEEP = _reg("include-too-deep", W, "Includes nested too deeply to fo
 NO_LAUNCH_ROOT = _reg("no-launch-root", E, "The file has no single <launch> element")
 EXTENSION_TAG = _reg("extension-tag", I, "A tag a launch extension adds (tvl-lsp does not model what it does)")
 FILE_NOT_FOUND = _reg("file-not-found", E, "A file a tag loads does not exist")
+PARAM_INVALID = _reg("invalid-param", E, "A <param> or <rosparam> roslaunch cannot load")
 BUDGET = _reg("launch-analysis-budget", W, "The launch file is too large to analyse completely")
 # ROS 2 only
 INVALID_CHOICE = _reg("invalid-choice", E, "An <arg> value that is not one of its <choice> values (ROS 2)")

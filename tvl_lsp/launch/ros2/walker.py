@@ -34,10 +34,12 @@ from . import actions as A
 from . import subst as S
 from .frontend import parse_launch_file
 from .includes import IncludeRules
+from . import coerce as C
 from .nodes import NodeRules
 from .substitutions import SubstEval
 from .values import (E, I, W, declared_in, ARG_LEAK, EXTENSION_TAG, BUDGET, CONDITION_NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
-                     INVALID_NAMESPACE, LaunchFact, MAX_CASES, MAX_VISITS, MAX_WALK_DEPTH, Node2Fact, OPAQUE, RList,
+                     INVALID_NAMESPACE, LaunchFact, MAX_CASES, MAX_VISITS, MAX_WALK_DEPTH, Node2Fact, OPAQUE, PARAM_INVALID,
+                     RList,
                      Scope, Stop, UNSET_ARG, Unit, _CLASS, _extension, _python_error, _yaml_value, cond_value,
                      make_absolute, merge, opaque, prefix_namespace, present, shown, validate_namespace)
 
@@ -377,7 +379,23 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         elif t == "set_parameter":
             names = self.ev(a.name, sc, cond, el)
             vals = self.ev(a.value, sc, cond, el)
-            items = [(conj([c1, c2]), (n, _yaml_value(v))) for c1, n in names for c2, v in vals]
+            items = []
+            for c1, n in names:
+                for c2, v in vals:
+                    c = conj([c1, c2])
+                    if c == FALSE:
+                        continue
+                    if opaque(v) or opaque(n):
+                        items.append((c, (n, _yaml_value(v))))
+                        continue
+                    try:  # launch_ros' evaluate_parameter_dict: the text typed as YAML
+                        items.append((c, (n, C.evaluate_set_parameter(n, v))))
+                    except TypeError as ex:
+                        self.fact(PARAM_INVALID, f"the value of parameter '{n}' is '{v}', which ros2 launch cannot "
+                                  f"type as YAML: {ex}", el.path, a.value.span() or el.tag_span, c,
+                                  launch=("TypeError", str(ex)))
+                    except Exception:  # beyond the YAML bounds: unknown, not an error
+                        items.append((c, (n, v)))
             self.append_list(sc, "gparams", items, cond)
         elif t == "set_parameters_from_file":
             for c, f in self.ev(a.filename, sc, cond, el):
