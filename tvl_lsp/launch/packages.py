@@ -18,6 +18,7 @@ from .xml import strip_comments
 
 _NAME = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 _SKIP = {".git", "build", "devel", "install", "node_modules", ".venv", "__pycache__", "log", ".hg"}
+_VCS = {".git", ".hg", ".svn", "__pycache__"}  # what rospkg crawls too, but never holds a package
 MAX_DIRS = 20000
 
 
@@ -25,13 +26,15 @@ _METAPACKAGE = re.compile(r"<export\b[^>]*>(?:(?!</export>).)*?<metapackage\b", 
 _COMMENT = re.compile(r"<!--.*?-->", re.S)
 
 
-def _scan(root: str, every: Optional[dict[str, list[str]]] = None) -> dict[str, str]:
+def _scan(root: str, every: Optional[dict[str, list[str]]] = None, exact: bool = False) -> dict[str, str]:
     """rospkg's crawl (``rospkg.rospack.list_by_path``, what ``$(find pkg)`` uses): symbolic
     links followed, ``CATKIN_IGNORE`` and ``rospack_nosubdirs`` end a branch, a folder with a
     ``package.xml`` is a package (a metapackage is none: ``$(find)`` cannot find it) and so is
     one with a rosbuild ``manifest.xml`` (named after the folder); packages do not nest; of
     two packages with one name the first crawled wins (rospkg walks folders in the file
-    system's order, and so does this)."""
+    system's order, and so does this).  ``exact``: a folder of ``ROS_PACKAGE_PATH``, crawled as
+    rospkg does (build, install, hidden folders too); else a workspace's own folder, whose build
+    and install spaces and hidden folders are not looked into."""
     out: dict[str, str] = {}
     count = 0
     seen: set[str] = set()
@@ -47,7 +50,8 @@ def _scan(root: str, every: Optional[dict[str, list[str]]] = None) -> dict[str, 
             dirnames[:] = []
             continue
         seen.add(real)
-        dirnames[:] = [d for d in dirnames if d not in _SKIP and not d.startswith(".")]
+        dirnames[:] = ([d for d in dirnames if d not in _VCS] if exact else
+                       [d for d in dirnames if d not in _SKIP and not d.startswith(".")])
         if "CATKIN_IGNORE" in filenames:
             dirnames[:] = []
             continue
@@ -77,18 +81,18 @@ def _scan(root: str, every: Optional[dict[str, list[str]]] = None) -> dict[str, 
 
 
 @lru_cache(maxsize=16)
-def _cached(root: str, mtime: float) -> tuple[dict[str, str], dict[str, list[str]]]:
+def _cached(root: str, mtime: float, exact: bool = False) -> tuple[dict[str, str], dict[str, list[str]]]:
     every: dict[str, list[str]] = {}
-    return _scan(root, every), every
+    return _scan(root, every, exact), every
 
 
-def _crawl(folder: str) -> tuple[dict[str, str], dict[str, list[str]]]:
+def _crawl(folder: str, exact: bool = False) -> tuple[dict[str, str], dict[str, list[str]]]:
     root = os.path.abspath(folder)
     try:
         mtime = os.stat(root).st_mtime
     except OSError:
         return {}, {}
-    return _cached(root, mtime)
+    return _cached(root, mtime, exact)
 
 
 def find_packages(workspace_root: str | None) -> dict[str, str]:
@@ -130,17 +134,18 @@ def ros_packages(workspace_root: Optional[str], env: Optional[Mapping[str, str]]
     file is sourced.  Names held by several folders are in ``ambiguous``."""
     env = os.environ if env is None else env
     ws = os.path.abspath(workspace_root) if workspace_root else None
-    entries = [os.path.abspath(e) for e in package_path(env)]
+    entries = [(os.path.abspath(e), True) for e in package_path(env)]
     if ws is not None:
-        real = {e: os.path.realpath(e) for e in entries + [ws]}
-        if not any(_within(real[e], real[ws]) or _within(real[ws], real[e]) for e in entries):
-            entries.insert(0, ws)
-        elif not any(_within(real[ws], real[e]) for e in entries):
-            entries.append(ws)  # only folders inside it are listed: the rest of it last
+        real = {e: os.path.realpath(e) for e, _ in entries}
+        rws = os.path.realpath(ws)
+        if not any(_within(real[e], rws) or _within(rws, real[e]) for e, _ in entries):
+            entries.insert(0, (ws, False))
+        elif not any(_within(rws, real[e]) for e, _ in entries):
+            entries.append((ws, False))  # only folders inside it are listed: the rest of it last
     out: dict[str, str] = {}
     every: dict[str, list[str]] = {}
-    for e in dict.fromkeys(entries):
-        first, all_ = _crawl(e)
+    for e, exact in dict.fromkeys(entries):
+        first, all_ = _crawl(e, exact)
         for name, folder in first.items():
             out.setdefault(name, folder)
         for name, folders in all_.items():
