@@ -24,7 +24,7 @@ import os
 from dataclasses import dataclass
 from typing import Iterable, Mapping, Optional
 
-from ...base.formula import FALSE, TRUE, Formula, Var, disj, forall_unknowns, neg, variables
+from ...base.formula import FALSE, TRUE, Formula, Var, disj, forall_unknowns, neg, substitute, variables
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import LineIndex, Span
 from ...base.files import inside, is_regular, read_text_or_none
@@ -567,14 +567,24 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
                 error, code = f.message, f.code
                 break
         warnings += [f.message for f in w.facts if f.condition == TRUE and f.severity != E]
+    # an if/unless tvl-lsp cannot compute: the elements are listed as if it were true (if= loads,
+    # unless= skips: never both), and the warning says so; an error never depends on it (above)
+    taken = {u.name: TRUE for u in w.unknowns.values()}
+
+    def loaded(c) -> bool:
+        return c == TRUE or (bool(taken) and substitute(c, taken) == TRUE)
+    for u in w.unknowns.values():
+        if any(u.name in variables(x.condition) for x in list(w.nodes) + list(w.params)):
+            warnings.append(f"tvl-lsp cannot evaluate the condition {u.name.split(':', 1)[-1]}: the elements it "
+                            "decides are listed as if it were true")
     nodes = [dict(name=n.name, pkg=n.pkg, type=n.type, namespace=n.namespace, args=n.args,
                   remaps=[list(r) for r in n.remaps], file=n.path, line=n.element.span.start.line + 1)
-             for n in w.nodes if n.condition == TRUE and not n.is_test]
+             for n in w.nodes if loaded(n.condition) and not n.is_test]
     params: dict = {}
     sources: dict[str, str] = {}
     text: dict[str, str] = {}
     for p in w.params:
-        if p.condition == TRUE:
+        if loaded(p.condition):
             params[p.name] = p.data
             text[p.name] = p.value
             if p.source in ("textfile", "binfile", "command"):
@@ -584,7 +594,7 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
 
     def inc_tree(incs: list[IncludeFact]) -> list[dict]:
         return [dict(file=i.file, followed=i.followed, namespace=i.namespace, package=i.package,
-                     includes=inc_tree(i.children)) for i in incs if i.condition == TRUE]
+                     includes=inc_tree(i.children)) for i in incs if loaded(i.condition)]
 
     remaps = []
     for n in nodes:
