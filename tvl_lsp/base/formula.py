@@ -8,7 +8,7 @@ immutable and hashable; the smart constructors fold constants and flatten.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Iterable, Mapping
+from typing import Iterable, Mapping, Optional
 
 
 class Formula:
@@ -155,16 +155,23 @@ def iff(a: Formula, b: Formula) -> Formula:
 
 
 def variables(f: Formula) -> set[str]:
+    """The variable names of ``f`` (a shared subformula visited once: formulas built by the
+    launch front ends share subterms, and a tree walk of such a DAG is exponential)."""
     out: set[str] = set()
     stack = [f]
+    seen: set[int] = set()
     while stack:
         g = stack.pop()
         if isinstance(g, Var):
             out.add(g.name)
-        elif isinstance(g, Not):
-            stack.append(g.arg)
-        elif isinstance(g, (And, Or)):
-            stack.extend(g.args)
+        elif isinstance(g, (Not, And, Or)):
+            if id(g) in seen:
+                continue
+            seen.add(id(g))
+            if isinstance(g, Not):
+                stack.append(g.arg)
+            else:
+                stack.extend(g.args)
     return out
 
 
@@ -183,17 +190,27 @@ def evaluate(f: Formula, env: Mapping[str, bool]) -> bool:
     raise TypeError(f)
 
 
-def substitute(f: Formula, env: Mapping[str, Formula]) -> Formula:
-    """Replace variables by formulas (or constants); rebuilds with folding."""
+def substitute(f: Formula, env: Mapping[str, Formula], _memo: Optional[dict] = None) -> Formula:
+    """Replace variables by formulas (or constants); rebuilds with folding (a shared
+    subformula once)."""
     if isinstance(f, Var):
         return env.get(f.name, f)
+    if isinstance(f, Const):
+        return f
+    memo = {} if _memo is None else _memo
+    hit = memo.get(id(f))
+    if hit is not None:
+        return hit[1]
     if isinstance(f, Not):
-        return neg(substitute(f.arg, env))
-    if isinstance(f, And):
-        return conj(substitute(a, env) for a in f.args)
-    if isinstance(f, Or):
-        return disj(substitute(a, env) for a in f.args)
-    return f
+        out = neg(substitute(f.arg, env, memo))
+    elif isinstance(f, And):
+        out = conj(substitute(a, env, memo) for a in f.args)
+    elif isinstance(f, Or):
+        out = disj(substitute(a, env, memo) for a in f.args)
+    else:
+        out = f
+    memo[id(f)] = (f, out)  # (f kept alive: its id is not reused while the memo lives)
+    return out
 
 
 # ------------------------------------------------------------------ unknowns
