@@ -175,19 +175,27 @@ def variables(f: Formula) -> set[str]:
     return out
 
 
-def evaluate(f: Formula, env: Mapping[str, bool]) -> bool:
-    """Evaluate under ``env``; a variable missing from ``env`` is false."""
+def evaluate(f: Formula, env: Mapping[str, bool], _memo: Optional[dict] = None) -> bool:
+    """Evaluate under ``env``; a variable missing from ``env`` is false (a shared subformula
+    once)."""
     if isinstance(f, Const):
         return f.value
     if isinstance(f, Var):
         return bool(env.get(f.name, False))
+    memo = {} if _memo is None else _memo
+    hit = memo.get(id(f))
+    if hit is not None:
+        return hit[1]
     if isinstance(f, Not):
-        return not evaluate(f.arg, env)
-    if isinstance(f, And):
-        return all(evaluate(a, env) for a in f.args)
-    if isinstance(f, Or):
-        return any(evaluate(a, env) for a in f.args)
-    raise TypeError(f)
+        out = not evaluate(f.arg, env, memo)
+    elif isinstance(f, And):
+        out = all(evaluate(a, env, memo) for a in f.args)
+    elif isinstance(f, Or):
+        out = any(evaluate(a, env, memo) for a in f.args)
+    else:
+        raise TypeError(f)
+    memo[id(f)] = (f, out)
+    return out
 
 
 def substitute(f: Formula, env: Mapping[str, Formula], _memo: Optional[dict] = None) -> Formula:
