@@ -249,6 +249,10 @@ def forall_unknowns(f: Formula) -> Formula:
         return f
     if len(us) > MAX_UNKNOWNS:
         return FALSE
+    # the common case, cheaply: false when all the unknowns are true, or all false
+    for value in (TRUE, FALSE):
+        if substitute(f, dict.fromkeys(us, value)) == FALSE:
+            return FALSE
     for u in us:
         f = conj([substitute(f, {u: TRUE}), substitute(f, {u: FALSE})])
         if f == FALSE:
