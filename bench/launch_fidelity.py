@@ -358,8 +358,9 @@ def same_cause(rl_message: str, tvl_message: str) -> bool:
                     out.add(os.path.basename(x.strip()))
         return out - {"", "bool"}
     a, b = names(rl_message), names(tvl_message)
-    core = _TVL_PREFIX.sub("", tvl_message.strip()).split("\n")[0][:60]
-    return bool(a & b) or tvl_message.strip() in rl_message or (len(core) > 3 and core in rl_message)
+    flat = " ".join(rl_message.split())
+    core = " ".join(_TVL_PREFIX.sub("", tvl_message.strip()).split())[:60]
+    return bool(a & b) or " ".join(tvl_message.split()) in flat or (len(core) > 3 and core in flat)
 
 
 def _legacy_eq(rl, s) -> bool:

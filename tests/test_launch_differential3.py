@@ -239,6 +239,17 @@ def test_a_workspace_not_on_ros_package_path_comes_first(tmp_path):
     assert (lr.error is None) == o["ok"] is False
 
 
+def test_find_sees_the_system_packages_debian_roslaunch_sees(tmp_path):
+    """Debian's rospkg searches /usr/share last, one level deep (roslaunch, rosparam ...)."""
+    f = tmp_path / "where.launch"
+    f.write_text('<launch><param name="where" value="$(find rosparam)"/></launch>')
+    (o,) = oracle([dict(file=str(f), args={}, package_path=str(SRC))])
+    lr = load_launch(str(f), {}, workspace_root=str(tmp_path), env={"ROS_PACKAGE_PATH": str(SRC)})
+    assert (lr.error is None) == o["ok"], (lr.error, o)
+    if o["ok"]:
+        assert lr.params["/where"] == o["values"]["/where"]
+
+
 # ---------------------------------------------------------------- class 7
 
 def test_a_file_named_on_the_command_line_that_is_not_a_launch_file_is_an_error(tmp_path):

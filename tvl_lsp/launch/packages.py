@@ -112,12 +112,39 @@ class Packages(dict):
         self.ambiguous: dict[str, list[str]] = dict(ambiguous or {})
 
 
+SYSTEM_SHARE = "/usr/share"  # Debian's rospkg searches it last, one level deep (its ROS packages)
+
+
 def package_path(env: Mapping[str, str]) -> list[str]:
-    """The folders rospkg searches, first wins: ``ROS_ROOT``, then ``ROS_PACKAGE_PATH`` in order."""
+    """The folders rospkg searches, first wins: ``ROS_ROOT``, then ``ROS_PACKAGE_PATH`` in order
+    (and, last, ``/usr/share``: see :func:`ros_packages`)."""
     out = []
     if env.get("ROS_ROOT"):
         out.append(os.path.normpath(env["ROS_ROOT"]))
     out += [x for x in env.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if x.strip()]
+    return out
+
+
+@lru_cache(maxsize=4)
+def _system_share(root: str, mtime: float) -> dict[str, str]:
+    """The packages directly under ``/usr/share`` (Debian's rospkg appends it to
+    ``ROS_PACKAGE_PATH`` and crawls it one level deep): roslaunch, rosparam, rosout ... when
+    Debian's ROS packages are installed; nothing on other systems."""
+    out: dict[str, str] = {}
+    try:
+        names = sorted(os.listdir(root))
+    except OSError:
+        return out
+    for name in names[:MAX_DIRS]:
+        d = os.path.join(root, name)
+        head = read_head(os.path.join(d, "package.xml"), 200_000)
+        if head is None:
+            continue
+        text = strip_comments(head.decode("utf-8", "replace"))
+        if _METAPACKAGE.search(text):
+            continue
+        m = _NAME.search(text)
+        out.setdefault(m.group(1) if m else name, d)
     return out
 
 
@@ -131,7 +158,9 @@ def ros_packages(workspace_root: Optional[str], env: Optional[Mapping[str, str]]
     ``ROS_PACKAGE_PATH`` crawled in order, the first folder holding a package of that name wins
     (in one folder, the first crawled).  The workspace counts where ``ROS_PACKAGE_PATH`` lists it
     (or a folder of it); a workspace it does not list comes first, as it would once its setup
-    file is sourced.  Names held by several folders are in ``ambiguous``."""
+    file is sourced.  Last, as Debian's rospkg (the roslaunch of Debian and Ubuntu's ROS packages)
+    does, the packages directly under ``/usr/share``.  Names held by several folders are in
+    ``ambiguous``."""
     env = os.environ if env is None else env
     ws = os.path.abspath(workspace_root) if workspace_root else None
     entries = [(os.path.abspath(e), True) for e in package_path(env)]
@@ -151,6 +180,11 @@ def ros_packages(workspace_root: Optional[str], env: Optional[Mapping[str, str]]
         for name, folders in all_.items():
             have = every.setdefault(name, [])
             have += [f for f in folders if f not in have]
+    try:
+        for name, folder in _system_share(SYSTEM_SHARE, os.stat(SYSTEM_SHARE).st_mtime).items():
+            out.setdefault(name, folder)
+    except OSError:
+        pass
     return Packages(out, ambiguous={n: [out[n]] + [f for f in fs if f != out[n]]
                                     for n, fs in every.items() if len(fs) > 1})
 
