@@ -209,6 +209,7 @@ class ComposableA:
 
 @dataclass
 class ExecA(Action):
+    respawn: Optional[Value] = None
     cmd: list[list[S.Part]] = field(default_factory=list)
     cmd_value: Optional[Value] = None
     name: Optional[Value] = None
@@ -218,6 +219,7 @@ class ExecA(Action):
 
 @dataclass
 class NodeA(Action):
+    respawn: Optional[Value] = None
     package: Optional[Value] = None
     executable: Value = None
     name: Optional[Value] = None
@@ -486,11 +488,14 @@ class Parser:
                             f"`{on_exit}`Other on_exit actions not yet supported", e.aspan("on_exit"), self.path)
         self.opt_subst(e, "launch-prefix")
         self.opt_subst(e, "output")
-        self.opt_subst(e, "respawn")
+        a.respawn = self.opt_subst(e, "respawn")   # typed as a bool when the process starts (nodes.py)
         e.get_attr("respawn_max_retries", data_type=int, optional=True)
         for k in ("respawn_delay", "sigkill_timeout", "sigterm_timeout"):
             v = e.get_attr(k, data_type=float, optional=True)
-            if v is not None and not isinstance(v, str) and v < 0.0:
+            if isinstance(v, str):  # not a number (a substitution too): launch compares it with 0.0
+                raise LoadError("TypeError", "'<' not supported between instances of 'str' and 'float'",
+                                e.aspan(k), self.path)
+            if v is not None and v < 0.0:
                 raise LoadError("ValueError", f"Attribute {k} of Entity node expected to be a non-negative value "
                                 f"but got `{v}`", e.aspan(k), self.path)
         e.get_attr("shell", data_type=bool, optional=True)
@@ -702,6 +707,9 @@ class Parser:
         period = e.get_attr("period", data_type=float)
         if isinstance(period, str):
             period = self.subst(e, "period", period)
+            if S.is_text(period.parts):  # TimerAction(period='abc'): float('abc') in its constructor
+                raise LoadError("ValueError", f"could not convert string to float: {S.plain(period.parts)!r}",
+                                e.aspan("period"), self.path)
         t = TimerA(tag, e, cond, period)
         t.actions = self.actions(e.children())
         if tag == "timer":

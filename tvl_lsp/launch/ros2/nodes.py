@@ -38,12 +38,29 @@ class NodeRules:
         for kn, kv in a.env:
             self.ev(kn, sc, cond, el)
             self.ev(kv, sc, cond, el)
+        self.typed_respawn(a, el, sc, cond)
         if self.concrete and cond == TRUE:
             n = names[0][1] if names else ""
             self.exec_counter = getattr(self, "exec_counter", 0) + 1
             base = n or (os.path.basename(cmd[0][1][0]) if cmd and cmd[0][1] else "")
             self.executables.append({"name": shown(base), "process_name": f"{shown(base)}-{self.exec_counter}",
                                      "cmd": [shown(x) for x in (cmd[0][1] if cmd else [])], "source": el.path})
+
+    def typed_respawn(self, a, el: Element, sc: Scope, cond: Formula) -> None:
+        """ExecuteLocal.prepare: ``respawn`` substituted and typed as a bool (launch fails on
+        'abc' or '[' there)."""
+        if a.respawn is None:
+            return
+        for c, v in self.ev(a.respawn, sc, cond, el):
+            if opaque(v):
+                continue
+            try:
+                C.perform_typed(v, bool)
+            except ValueError as ex:
+                self.fact(INVALID_VALUE, f"respawn is '{v}', which ros2 launch cannot read as a boolean: {ex}",
+                          el.path, a.respawn.span() or el.tag_span, c, launch=("ValueError", str(ex)))
+            except Exception:
+                continue
 
     def cmd(self, cmd: list, v: A.Value, sc: Scope, cond: Formula, el: Element) -> list:
         """Cases of the command line (a list of words)."""
@@ -129,6 +146,7 @@ class NodeRules:
             self.ev(a.args, sc, g, el)
         if a.ros_args is not None:
             self.ev(a.ros_args, sc, g, el)
+        self.typed_respawn(a, el, sc, g)
         kind = a.tag
         for cp, p, x in okp:
             for cn, n in ok_names:

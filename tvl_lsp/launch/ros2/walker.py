@@ -38,7 +38,8 @@ from . import coerce as C
 from .nodes import NodeRules
 from .substitutions import SubstEval
 from .values import (E, I, W, declared_in, ARG_LEAK, EXTENSION_TAG, BUDGET, CONDITION_NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
-                     INVALID_NAMESPACE, LaunchFact, MAX_CASES, MAX_VISITS, MAX_WALK_DEPTH, Node2Fact, OPAQUE, PARAM_INVALID,
+                     INVALID_NAMESPACE, INVALID_VALUE, LaunchFact, MAX_CASES, MAX_VISITS, MAX_WALK_DEPTH, Node2Fact, OPAQUE,
+                     PARAM_INVALID,
                      RList,
                      Scope, Stop, UNSET_ARG, Unit, _CLASS, _extension, _python_error, _yaml_value, cond_value,
                      make_absolute, merge, opaque, prefix_namespace, present, shown, validate_namespace)
@@ -408,7 +409,15 @@ class Walker(SubstEval, NodeRules, IncludeRules):
                 self.logs.append(shown(vals[0][1]))
         elif t in ("timer", "ros_timer"):
             if isinstance(a.period, A.Value):
-                self.ev(a.period, sc, cond, el)
+                for c, v in self.ev(a.period, sc, cond, el):
+                    if opaque(v) or S.is_text(a.period.parts):
+                        continue
+                    try:  # TimerAction.execute: the period typed as a float
+                        C.perform_typed(v, float)
+                    except ValueError as ex:
+                        self.fact(INVALID_VALUE, f"the timer's period is '{v}', which ros2 launch cannot read as a "
+                                  f"number: {ex}", el.path, a.period.span() or el.tag_span, c,
+                                  launch=("ValueError", str(ex)))
             self.timers.append((a, el, sc, cond, emap))
         elif t == "reset":
             self.reset(a, el, sc, cond)
