@@ -146,7 +146,7 @@ _STR_METHODS = frozenset({
     "count", "isdigit", "isalpha", "isalnum", "islower", "isupper", "capitalize", "title", "replace", "index",
     "rindex", "format", "join", "zfill", "center", "ljust", "rjust", "partition", "rpartition", "splitlines",
     "swapcase", "casefold", "isspace", "isnumeric", "isdecimal", "isidentifier", "istitle", "removeprefix",
-    "removesuffix", "expandtabs"})
+    "removesuffix", "expandtabs", "encode"})
 _SET_METHODS = frozenset({"union", "intersection", "difference", "symmetric_difference", "issubset",
                           "issuperset", "isdisjoint", "copy"})
 METHODS: dict[type, frozenset] = {

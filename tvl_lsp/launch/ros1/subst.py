@@ -129,6 +129,7 @@ def eval_names(tree: ast.Expression) -> tuple[set[str], bool]:
     """Arg names the expression reads, and whether it only uses the supported subset."""
     names: set[str] = set()
     ok = True
+    parents = {id(c): n for n in ast.walk(tree) for c in ast.iter_child_nodes(n)}
     for n in ast.walk(tree):
         if isinstance(n, ast.Call):
             f = n.func
@@ -137,15 +138,17 @@ def eval_names(tree: ast.Expression) -> tuple[set[str], bool]:
                     names.add(n.args[0].value)
                 else:
                     ok = False
-            elif isinstance(f, ast.Attribute) and f.attr in guard.METHOD_NAMES:
-                pass  # a method of a built-in value ('x'.split(...), {...}.get(...)); checked when evaluated
+            elif isinstance(f, ast.Attribute):
+                pass  # a method of a value ('x'.split(...), {...}.get(...)): evaluate_call_method decides
             elif not (isinstance(f, ast.Name) and f.id in _RESERVED):
                 ok = False
         elif isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load):
             if n.id not in _RESERVED:
                 names.add(n.id)
-        elif isinstance(n, ast.Attribute) and n.attr in guard.METHOD_NAMES:
+        elif isinstance(n, ast.Attribute) and isinstance(parents.get(id(n)), ast.Call) and parents[id(n)].func is n:
             pass
+        elif isinstance(n, ast.Starred) and isinstance(parents.get(id(n)), ast.Call):
+            pass  # f(*args): expanded when evaluated
         elif isinstance(n, (ast.Attribute, ast.Lambda, ast.ListComp, ast.DictComp,
                             ast.SetComp, ast.GeneratorExp, ast.NamedExpr, ast.Starred)):
             ok = False
@@ -209,6 +212,22 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
         except _Speculative:
             pass
         return UNKNOWN
+
+    def call_args(nodes) -> list:
+        """A call's positional arguments, ``*xs`` expanded (a list, tuple or string)."""
+        out = []
+        for x in nodes:
+            if isinstance(x, ast.Starred):
+                v = ev(x.value)
+                if v is UNKNOWN:
+                    out.append(UNKNOWN)
+                elif isinstance(v, (list, tuple, str)):
+                    out.extend(guard.bounded(v))
+                else:
+                    raise NotAnalysable()
+            else:
+                out.append(ev(x))
+        return out
 
     def ev(n):
         steps.tick()
@@ -321,12 +340,12 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
         if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute):
             obj = ev(n.func.value)
             attr = n.func.attr
-            if any(isinstance(x, ast.Starred) for x in n.args) or any(k.arg is None for k in n.keywords):
+            if any(k.arg is None for k in n.keywords):
                 raise NotAnalysable()
             if obj is not UNKNOWN and not hasattr(obj, attr):
                 raise SubstError(f"$(eval) failed: AttributeError: '{type(obj).__name__}' object has no "
                                  f"attribute '{attr}'")
-            vals = [ev(x) for x in n.args]
+            vals = call_args(n.args)
             kws = {k.arg: ev(k.value) for k in n.keywords}
             if obj is UNKNOWN or UNKNOWN in vals or UNKNOWN in kws.values():
                 return UNKNOWN
@@ -335,11 +354,10 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
             except guard.NotAllowed:
                 raise NotAnalysable() from None
         if isinstance(n, ast.Call):
-            if not isinstance(n.func, ast.Name) or any(isinstance(x, ast.Starred) for x in n.args) or \
-                    any(k.arg is None for k in n.keywords):
+            if not isinstance(n.func, ast.Name) or any(k.arg is None for k in n.keywords):
                 raise NotAnalysable()
             fname = n.func.id
-            vals = [ev(x) for x in n.args]
+            vals = call_args(n.args)
             kws = {k.arg: ev(k.value) for k in n.keywords}
             if UNKNOWN in vals or UNKNOWN in kws.values():
                 return UNKNOWN
