@@ -15,10 +15,11 @@ Beyond a bound the evaluator raises :class:`TooBig`; each evaluator turns it int
 Methods of built-in values (``{'iron': False}.get(arg('robot'), True)``, ``[...].index(x)``,
 ``'a_b'.split('_')``, ``set(...).intersection(...)``) go through :func:`call_method`: the pure
 methods of ``str``, ``list``, ``tuple``, ``dict``, ``set`` / ``frozenset`` and numbers (never one
-that changes its object), bounded like the rest.  A value whose printed form depends on the
-iteration order of a set of strings (Python randomises string hashes per process:
-``str(set(['a', 'b']))`` and ``list(set(...))`` differ from run to run of roslaunch itself) is
-:class:`Unordered` -- unknown, like a value beyond a bound (:func:`ordered`).
+that changes its object), bounded like the rest.  A set of strings has no fixed order in Python
+(string hashes are randomised per process: ``list(set(['a', 'b']))`` differs from run to run of
+roslaunch itself); the evaluators give it one, sorted (:func:`canon`), so that their answers
+are the same every run and one of those the launch tool can give -- what is then done with it
+(``'ndt' in ...``, ``len(...)``) is what the launch tool computes, whatever the order.
 """
 
 from __future__ import annotations
@@ -177,6 +178,8 @@ def call_method(obj: Any, name: str, args: list, kwargs: Optional[dict] = None) 
     kind = next((t for t in METHODS if type(obj) is t), None)
     if kind is None and isinstance(obj, bool):
         kind = int
+    if kind is None and isinstance(obj, (SortedSet, SortedFrozenSet)):
+        kind = set if isinstance(obj, set) else frozenset
     if not hasattr(obj, name):
         raise AttributeError(f"'{type(obj).__name__}' object has no attribute '{name}'")
     if kind is None or name not in METHODS[kind]:
@@ -198,7 +201,43 @@ def call_method(obj: Any, name: str, args: list, kwargs: Optional[dict] = None) 
                 ordered(a)
         if name == "join" and args:
             ordered(args[0])
-    return bounded(getattr(obj, name)(*args, **kwargs))
+    return canon(bounded(getattr(obj, name)(*args, **kwargs)))
+
+
+def _sort_key(x: Any):
+    return (type(x).__name__, repr(x))
+
+
+class SortedSet(set):
+    """A set iterated and printed in sorted order (see :func:`canon`)."""
+
+    def __iter__(self):
+        return iter(sorted(set.__iter__(self), key=_sort_key))
+
+    def __repr__(self) -> str:
+        return "{" + ", ".join(repr(x) for x in self) + "}" if self else "set()"
+
+    __str__ = __repr__
+
+
+class SortedFrozenSet(frozenset):
+    """A frozenset iterated and printed in sorted order (see :func:`canon`)."""
+
+    def __iter__(self):
+        return iter(sorted(frozenset.__iter__(self), key=_sort_key))
+
+    def __repr__(self) -> str:
+        return "frozenset({" + ", ".join(repr(x) for x in self) + "})" if self else "frozenset()"
+
+    __str__ = __repr__
+
+
+def canon(v: Any) -> Any:
+    """``v``, a set or frozenset whose order Python does not fix (two or more strings) made
+    one that iterates and prints sorted; anything else as it is."""
+    if type(v) in (set, frozenset) and len(v) > 1 and not all(_stable(x) for x in v):
+        return SortedSet(v) if type(v) is set else SortedFrozenSet(v)
+    return v
 
 
 def _stable(x: Any) -> bool:
@@ -213,12 +252,13 @@ def _stable(x: Any) -> bool:
 def ordered(v: Any, _depth: int = 0) -> Any:
     """``v`` when its printed form (and its iteration order) is the same in every process;
     :class:`Unordered` when it is or holds a set of two or more strings (or other values
-    whose hash Python randomises).  Called where an order becomes visible: the result's text,
-    ``list()`` / ``tuple()`` / ``str()`` / ``', '.join()`` ... of a value."""
+    whose hash Python randomises) that is not :func:`canon`'s.  Called where an order becomes
+    visible: the result's text, ``list()`` / ``tuple()`` / ``str()`` / ``', '.join()`` ... of a
+    value."""
     if _depth > 50:
         raise TooBig()
     if isinstance(v, (set, frozenset)):
-        if len(v) > 1 and not all(_stable(x) for x in v):
+        if len(v) > 1 and not isinstance(v, (SortedSet, SortedFrozenSet)) and not all(_stable(x) for x in v):
             raise Unordered()
         return v
     if isinstance(v, (list, tuple)):

@@ -198,7 +198,7 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
     def sized(v):
         if isinstance(v, (str, list, tuple, dict, set)) and len(v) > MAX_BUILD:
             raise NotAnalysable()
-        return guard.bounded(v)
+        return guard.canon(guard.bounded(v))
 
     steps = guard.Steps()
 
@@ -329,7 +329,7 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
             vals = [ev(x) for x in n.elts]
             if UNKNOWN in vals:
                 return UNKNOWN
-            return tuple(vals) if isinstance(n, ast.Tuple) else set(vals) if isinstance(n, ast.Set) else vals
+            return tuple(vals) if isinstance(n, ast.Tuple) else sized(set(vals)) if isinstance(n, ast.Set) else vals
         if isinstance(n, ast.Dict):
             if any(k is None for k in n.keys):
                 raise NotAnalysable()

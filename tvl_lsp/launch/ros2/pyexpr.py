@@ -149,7 +149,8 @@ class _Eval:
             if any(isinstance(x, ast.Starred) for x in n.elts):
                 raise NotAnalysable()
             vals = [self.ev(x) for x in n.elts]
-            return tuple(vals) if isinstance(n, ast.Tuple) else set(vals) if isinstance(n, ast.Set) else vals
+            return tuple(vals) if isinstance(n, ast.Tuple) else guard.canon(set(vals)) if isinstance(n, ast.Set) \
+                else vals
         if isinstance(n, ast.Dict):
             if any(k is None for k in n.keys):
                 raise NotAnalysable()
@@ -200,5 +201,5 @@ class _Eval:
             if f is format and len(args) > 1 and isinstance(args[1], str) and _WIDTH.search(args[1]):
                 raise NotAnalysable()
             guard.check_call(f, args + list(kws.values()))
-            return guard.bounded(f(*args, **kws))
+            return guard.canon(guard.bounded(f(*args, **kws)))
         raise NotAnalysable()
