@@ -1,0 +1,216 @@
+"""Pairwise (and 1-wise) covering: configurations grown greedily with a warm SAT solver.
+
+The interactions are the pairs of literals of two representative variables (see
+:mod:`.prepare`).  ``unc[a]`` is the bitset of the literals ``b`` such that the pair ``(a, b)`` is
+not covered yet and not known to be invalid (symmetric: ``b`` in ``unc[a]`` iff ``a`` in
+``unc[b]``).  Pairs known invalid from the implications are never in it.
+
+One configuration at a time (IncLing's order, YASA's tests):
+
+- the literals with uncovered pairs are visited in a seeded order; literal ``a`` joins the
+  configuration with every partner ``b`` of an uncovered pair ``(a, b)`` that can still join it;
+- *can join* is decided cheaply first: a literal whose negation the decisions so far force
+  (unit propagation, :attr:`Prepared.imp`) cannot; a literal the current *witness* (the last
+  model the solver gave for the decisions) has can, without a SAT call; only the others cost a
+  SAT call under assumptions, whose model becomes the new witness;
+- a SAT call that fails with an unsatisfiable core inside the pair proves the pair invalid: it
+  leaves ``unc`` for good (learnt once);
+- the configuration is the last witness: every pair of its literals is covered.
+
+Every configuration is a model of the CNF (a solver model), and each configuration covers at
+least one new pair or proves pairs invalid, so the loop ends with every valid pair covered.
+"""
+
+from __future__ import annotations
+
+import random
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+from .bits import from_model, idx, iter_bits, lit, negate
+from .prepare import Prepared
+
+
+class Stop(Exception):
+    """The budget ran out (or the caller cancelled): the sample so far is partial."""
+
+
+@dataclass
+class CoverState:
+    """What is left to cover, shared by the configurations of one run."""
+    unc: list[int]                    # literal bit -> uncovered partners (t = 2) / itself (t = 1)
+    total: int                        # interactions at the start (before any SAT call)
+    invalid: int = 0                  # proven invalid since
+    products: list[list[int]] = field(default_factory=list)  # solver models, features only
+    sat_calls: int = 0
+
+    def left(self) -> int:
+        return sum(map(int.bit_count, self.unc)) // 2
+
+
+def initial_pairs(p: Prepared) -> CoverState:
+    """Every pair of literals of two representative variables not known invalid by unit
+    propagation."""
+    size = 2 * p.n
+    unc = [0] * size
+    even = p.even
+    # nb[a]: partners known invalid with a (a forces not b, or b forces not a)
+    nb = [0] * size
+    for i, b in p.imp.items():
+        nb[i] |= negate(b, even)
+    for i in list(p.imp):
+        for j in iter_bits(nb[i]):
+            nb[j] |= 1 << i
+    total = 0
+    for v in p.reps:
+        for i in (2 * v - 2, 2 * v - 1):
+            u = p.repmask & ~(3 << (2 * v - 2)) & ~nb[i]
+            unc[i] = u
+            total += u.bit_count()
+    return CoverState(unc=unc, total=total // 2)
+
+
+class PairCover:
+    def __init__(self, p: Prepared, state: CoverState, rng: random.Random,
+                 check: Callable[[], None]):
+        self.p = p
+        self.st = state
+        self.rng = rng
+        self.check = check
+        self.s = p.solver
+        self.model = list(p.model or [])
+        self.n = p.n
+
+    # ------------------------------------------------------------------ SAT
+    def _sat(self, assumptions: list[int]) -> bool:
+        self.st.sat_calls += 1
+        ok = self.s.solve(assumptions=assumptions)
+        if ok:
+            self.model = self.s.get_model()
+        return ok
+
+    def _learn_invalid(self, a: int, b: int) -> None:
+        unc = self.st.unc
+        if (unc[a] >> b) & 1:
+            unc[a] &= ~(1 << b)
+            unc[b] &= ~(1 << a)
+            self.st.invalid += 1
+
+    # ------------------------------------------------------------------ one configuration
+    def _seed(self, active: list[int]) -> Optional[tuple[int, int]]:
+        """The pair to start a configuration from: a literal with the most uncovered pairs and
+        its partner with the most; a pair that proves invalid is learnt, and the next tried."""
+        unc = self.st.unc
+        while True:
+            best, bc = -1, -1
+            for i in active:
+                c = unc[i].bit_count()
+                if c > bc:
+                    best, bc = i, c
+            if bc <= 0:
+                return None
+            u = unc[best]
+            b, cb = -1, -1
+            for j in iter_bits(u):
+                c = unc[j].bit_count()
+                if c > cb:
+                    b, cb = j, c
+            if self._sat([lit(best), lit(b)]):
+                return best, b
+            self._learn_invalid(best, b)
+
+    def next_configuration(self) -> Optional[list[int]]:
+        """Grow one configuration; return it (the literals of features 1..n), or None when
+        every pair is covered or proven invalid."""
+        p, unc, imp = self.p, self.st.unc, self.p.imp
+        even, n = p.even, self.n
+        active = [i for i in range(len(unc)) if unc[i]]
+        seed = self._seed(active)
+        if seed is None:
+            return None
+        a, b = seed
+        dec = [lit(a), lit(b)]
+        L = imp[a] | imp[b] | (1 << a) | (1 << b)
+        NL = negate(L, even)
+        bad = 0
+        avars = sorted({i >> 1 for i in active})
+        self.rng.shuffle(avars)
+        rnd = self.rng.random
+        order = [i for i in active]
+        self.rng.shuffle(order)
+        skipped = avars
+        for rounds in range(3):
+            # A: each variable towards the literal with more uncovered pairs with the literals
+            # already in the configuration (AETG's density)
+            todo, skipped = skipped, []
+            for v2 in todo:
+                i = 2 * v2
+                if (L >> i) & 3:
+                    continue  # decided (by a decision or what it forces)
+                gp = (unc[i] & L).bit_count()
+                gn = (unc[i + 1] & L).bit_count()
+                if not gp and not gn:
+                    skipped.append(v2)
+                    continue
+                first = i if gp > gn or (gp == gn and rnd() < 0.5) else i + 1
+                for c in (first, first ^ 1):
+                    if c != first and not (gp if c == i else gn):
+                        break
+                    cb = 1 << c
+                    if (NL | bad) & cb or imp[c] & NL:
+                        continue
+                    dec.append(lit(c))
+                    L |= imp[c] | cb
+                    NL = negate(L, even)
+                    break
+            if rounds == 2 or not skipped:
+                break
+            # B: an uncovered pair of two undecided variables that fits (the tail: pairs that
+            # share no literal with the configuration so far)
+            added = False
+            for x in order:
+                xb = 1 << x
+                if (L | NL | bad) & xb or imp[x] & NL:
+                    continue
+                cand = unc[x] & ~(L | NL | bad)
+                if not cand:
+                    continue
+                lx = imp[x] | xb
+                nlx = negate(lx, even)
+                for y in iter_bits(cand):
+                    yb = 1 << y
+                    if yb & nlx or imp[y] & (NL | nlx):
+                        continue
+                    dec.append(lit(x))
+                    dec.append(lit(y))
+                    L |= lx | imp[y] | yb
+                    NL = negate(L, even)
+                    added = True
+                    break
+            if not added:
+                break
+        # complete: the undecided variables towards their better literal; one SAT call (more
+        # when unit propagation missed a conflict: drop the latest decision of the core)
+        pref = []
+        for v2 in p.reps:
+            i = 2 * v2 - 2
+            if not (L >> i) & 3:
+                gp = (unc[i] & L).bit_count()
+                gn = (unc[i + 1] & L).bit_count()
+                pref.append(v2 if gp > gn or (gp == gn and rnd() < 0.5) else -v2)
+        self.s.set_phases(pref)
+        while not self._sat(dec):
+            core = set(self.s.get_core() or ())
+            pos = {x: k for k, x in enumerate(dec)}
+            drop = max((pos[x] for x in core if x in pos and pos[x] >= 2), default=None)
+            if drop is None:
+                raise RuntimeError("the seed pair of a configuration became unsatisfiable")
+            del dec[drop]
+        product = self.model[:n]
+        wb = from_model(product, n) & p.repmask
+        for i in iter_bits(wb):
+            u = unc[i]
+            if u:
+                unc[i] = u & ~wb
+        return product
