@@ -123,7 +123,7 @@ class PairCover:
     def next_configuration(self) -> Optional[list[int]]:
         """Grow one configuration; return it (the literals of features 1..n), or None when
         every pair is covered or proven invalid."""
-        p, unc, imp = self.p, self.st.unc, self.p.imp
+        p, unc, imp, nimp = self.p, self.st.unc, self.p.imp, self.p.nimp
         even, n = p.even, self.n
         active = [i for i in range(len(unc)) if unc[i]]
         seed = self._seed(active)
@@ -162,7 +162,7 @@ class PairCover:
                         continue
                     dec.append(lit(c))
                     L |= imp[c] | cb
-                    NL = negate(L, even)
+                    NL |= nimp[c]
                     break
             if rounds == 2 or not skipped:
                 break
@@ -185,7 +185,7 @@ class PairCover:
                     dec.append(lit(x))
                     dec.append(lit(y))
                     L |= lx | imp[y] | yb
-                    NL = negate(L, even)
+                    NL |= nimp[x] | nimp[y]
                     added = True
                     break
             if not added:
@@ -213,4 +213,48 @@ class PairCover:
             u = unc[i]
             if u:
                 unc[i] = u & ~wb
+        return product
+
+
+def initial_literals(p: Prepared) -> CoverState:
+    """t = 1: every literal of a representative variable (each is in some product: the
+    backbone holds the others).  ``unc[a]`` is ``a``'s own bit while ``a`` is uncovered."""
+    unc = [0] * (2 * p.n)
+    for v in p.reps:
+        for i in (2 * v - 2, 2 * v - 1):
+            unc[i] = 1 << i
+    return CoverState(unc=unc, total=2 * len(p.reps))
+
+
+class LiteralCover(PairCover):
+    """t = 1: each configuration takes the uncovered literals that fit, in a seeded order."""
+
+    def next_configuration(self) -> Optional[list[int]]:
+        p, unc, imp, nimp = self.p, self.st.unc, self.p.imp, self.p.nimp
+        even, n = p.even, self.n
+        order = [i for i in range(len(unc)) if unc[i]]
+        if not order:
+            return None
+        self.rng.shuffle(order)
+        dec: list[int] = []
+        L = NL = 0
+        for x in order:
+            xb = 1 << x
+            if (L | NL) & xb or imp[x] & NL:
+                continue
+            dec.append(lit(x))
+            L |= imp[x] | xb
+            NL |= nimp[x]
+        pref = [v if unc[2 * v - 2] else -v for v in p.reps if not (L >> (2 * v - 2)) & 3]
+        self.s.set_phases(pref)
+        while not self._sat(dec):
+            core = set(self.s.get_core() or ())
+            pos = {x: k for k, x in enumerate(dec)}
+            drop = max((pos[x] for x in core if x in pos and pos[x] >= 1), default=None)
+            if drop is None:
+                raise RuntimeError("an open literal became unsatisfiable")
+            del dec[drop]
+        product = self.model[:n]
+        for i in iter_bits(from_model(product, n) & p.repmask):
+            unc[i] = 0
         return product

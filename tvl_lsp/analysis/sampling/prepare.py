@@ -27,7 +27,7 @@ from typing import Optional, Sequence
 
 from ..sat import BoundedSolver
 from ..solve import backbone_of, new_solver
-from .bits import even_mask, idx
+from .bits import even_mask, idx, negate
 
 
 class SamplingTimeout(Exception):
@@ -43,6 +43,7 @@ class Prepared:
     rep_of: dict[int, int] = field(default_factory=dict)   # open var -> its representative literal
     reps: list[int] = field(default_factory=list)          # representative variables, increasing
     imp: dict[int, int] = field(default_factory=dict)      # rep literal bit -> rep literal bits it forces
+    nimp: dict[int, int] = field(default_factory=dict)     # ... -> the negations of it and what it forces
     even: int = 0                     # positive-literal bits of variables 1..n
     repmask: int = 0                  # both literal bits of every representative variable
     model: Optional[list[int]] = None  # a product (a solver model)
@@ -124,6 +125,7 @@ def prepare(clauses: Sequence[Sequence[int]], n: int, assumptions: Sequence[int]
     for v in reps:
         repmask |= 3 << (2 * v - 2)
     imp: dict[int, int] = {}
+    nimp: dict[int, int] = {}
     for v in reps:
         for x in (v, -v):
             b = 0
@@ -133,5 +135,6 @@ def prepare(clauses: Sequence[Sequence[int]], n: int, assumptions: Sequence[int]
                 if z != x:
                     b |= 1 << (2 * z - 2 if z > 0 else -2 * z - 1)
             imp[idx(x)] = b
-    return Prepared(n=n, solver=s, void=False, fixed=fixed, rep_of=rep_of, reps=reps, imp=imp, even=even,
+            nimp[idx(x)] = negate(b | (1 << idx(x)), even)
+    return Prepared(n=n, solver=s, void=False, fixed=fixed, rep_of=rep_of, reps=reps, imp=imp, nimp=nimp, even=even,
                     repmask=repmask, model=m, seconds=time.monotonic() - t0, sat_calls=calls[0] + 1)
