@@ -401,8 +401,8 @@ class ModelAnalysis:
         return prods, "sat"
 
     def twise_sample(self, t: int = 2, seed: int = 0, include: Iterable[str] = (), exclude: Iterable[str] = (),
-                     budget: Optional[float] = None, cancel: CancelLike = None, iterations: int = 1,
-                     jobs: int = 1):
+                     budget: Optional[float] = None, cancel: CancelLike = None,
+                     iterations: Optional[int] = None, jobs: int = 1):
         """A ``t``-wise covering sample (t = 1, 2, 3) of the products with the included and
         without the excluded features (:mod:`.sampling`: a warm SAT solver, no compilation):
         (products as {feature name: selected}, :class:`.sampling.SampleResult`).  When the

@@ -503,7 +503,7 @@ def list_products(path: str, sources: dict[str, str], decisions: dict[str, bool]
 
 
 def sample_products(path: str, sources: dict[str, str], decisions: dict[str, bool], t: int = 2, seed: int = 0,
-                    budget: Optional[float] = None, iterations: int = 1, jobs: int = 1):
+                    budget: Optional[float] = None, iterations: Optional[int] = None, jobs: int = 1):
     """A ``t``-wise sample of the products respecting the decisions: (products, None), or
     (products so far, the :class:`~tvl_lsp.analysis.sampling.SampleResult`) when the budget
     stopped it first."""

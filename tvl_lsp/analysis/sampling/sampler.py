@@ -12,6 +12,11 @@ from ..sat import SolverInterrupted, cpu_limit
 from .pairwise import CoverState, LiteralCover, PairCover, Stop, initial_literals, initial_pairs
 from .prepare import Prepared, SamplingTimeout, prepare
 
+# with iterations=None, runs while they are cheap: about this many interactions in all (a model
+# with 4,000 pairs gets 32 runs, busybox's 1.2 million 3, automotive01's 5.8 million 1)
+AUTO_WORK = 4_000_000
+AUTO_MAX = 32
+
 # 3-wise bookkeeping is one bitset per pair of literals: beyond this many bytes, refuse (the
 # message says how many features to decide first)
 MAX_TRIPLE_MEMORY = 3 * 2 ** 30
@@ -121,30 +126,36 @@ def _worker(args) -> SampleResult:
 
 def sample(clauses: Sequence[Sequence[int]], n: int, t: int = 2, seed: int = 0,
            assumptions: Sequence[int] = (), budget: Optional[float] = None, cancel: CancelLike = None,
-           iterations: int = 1, jobs: int = 1) -> SampleResult:
+           iterations: Optional[int] = None, jobs: int = 1) -> SampleResult:
     """A ``t``-wise sample (t = 1, 2, 3) of the CNF ``clauses`` whose features are variables
     ``1..n``, among the products with ``assumptions``.  ``budget``: seconds (wall clock) for
     the whole call; when it runs out the result is partial (``complete`` False, ``left`` the
     interactions not covered yet).  ``iterations``: independent runs (seeds derived from
-    ``seed``), the smallest complete sample is kept; ``jobs`` runs them in parallel processes
-    (the answer does not depend on it)."""
+    ``seed``), the smallest complete sample is kept (None: as many as are cheap, from the number
+    of interactions: :data:`AUTO_WORK`); ``jobs`` runs them in parallel processes (the answer does
+    not depend on it)."""
     if t not in (1, 2, 3):
         raise ValueError("t-wise sampling supports t = 1, 2 and 3")
     t0 = time.monotonic()
     deadline = None if budget is None else t0 + budget
-    iterations = max(1, iterations)
     runs: list[SampleResult] = []
     with cpu_limit(None if budget is None else budget * max(1, jobs) + 1.0):
-        if jobs <= 1 or iterations == 1:
-            for k in range(iterations):
-                if k and deadline is not None and time.monotonic() > deadline:
-                    break
-                r = _one_run(clauses, n, t, seed, k, assumptions, deadline, cancel)
-                runs.append(r)
-                if not r.complete or r.void:
-                    break
-        else:
-            runs = _parallel(clauses, n, t, seed, iterations, assumptions, deadline, jobs)
+        first = _one_run(clauses, n, t, seed, 0, assumptions, deadline, cancel)
+        runs.append(first)
+        if iterations is None:
+            iterations = max(1, min(AUTO_MAX, AUTO_WORK // max(1, first.considered)))
+        if first.complete and not first.void and iterations > 1:
+            if jobs <= 1:
+                for k in range(1, iterations):
+                    if deadline is not None and time.monotonic() > deadline:
+                        break
+                    r = _one_run(clauses, n, t, seed, k, assumptions, deadline, cancel)
+                    if not r.complete:
+                        break
+                    runs.append(r)
+            else:
+                runs += [r for r in _parallel(clauses, n, t, seed, range(1, iterations), assumptions, deadline,
+                                              jobs) if r.complete]
     best = _pick(runs)
     best.iterations = len(runs)
     best.sizes = [len(r.products) for r in runs if r.complete]
@@ -160,11 +171,11 @@ def _pick(runs: list[SampleResult]) -> SampleResult:
     return runs[0]
 
 
-def _parallel(clauses, n, t, seed, iterations, assumptions, deadline, jobs) -> list[SampleResult]:
+def _parallel(clauses, n, t, seed, ks, assumptions, deadline, jobs) -> list[SampleResult]:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
     cl = [list(c) for c in clauses]
     ctx = multiprocessing.get_context("spawn")  # no fork of a process with solver threads
-    with ProcessPoolExecutor(max_workers=min(jobs, iterations), mp_context=ctx) as ex:
-        futs = [ex.submit(_worker, (cl, n, t, seed, k, list(assumptions), deadline)) for k in range(iterations)]
+    with ProcessPoolExecutor(max_workers=min(jobs, len(ks)), mp_context=ctx) as ex:
+        futs = [ex.submit(_worker, (cl, n, t, seed, k, list(assumptions), deadline)) for k in ks]
         return [f.result() for f in futs]

@@ -13,7 +13,8 @@ Every configuration is a product of the model (within ``--include`` / ``--exclud
 same ``--seed`` (default 0) gives the same sample, whatever ``--jobs``.  ``--budget S``: stop
 after S seconds (wall clock) with what is there: a t-wise sample cut short is printed all the
 same, with a warning saying the coverage reached and the interactions left, and the exit code is
-1.  ``--iterations K``: K independent runs (other seeds), the smallest sample kept; ``--jobs J``
+1.  ``--iterations K``: K independent runs (other seeds), the smallest sample kept (default: as
+many as are cheap -- 32 for a robot's model, 3 for busybox, 1 for automotive01); ``--jobs J``
 runs them in J processes.
 
 Output (``--format``): ``text`` one line per configuration, its selected features; ``json`` one
@@ -50,8 +51,9 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--json", action="store_true", help="same as --format json")
     ap.add_argument("--budget", "--timeout", dest="budget", type=float, default=None, metavar="S",
                     help="stop after S seconds with the sample so far (t-wise: partial, exit code 1)")
-    ap.add_argument("--iterations", type=int, default=1, metavar="K",
-                    help="t-wise: K runs with other seeds, the smallest sample kept (default 1)")
+    ap.add_argument("--iterations", type=int, default=None, metavar="K",
+                    help="t-wise: K runs with other seeds, the smallest sample kept (default: as many as "
+                         "are cheap for the model, 1 to 32)")
     ap.add_argument("--jobs", "-j", type=int, default=1, metavar="J",
                     help="t-wise: run the iterations in J processes (the sample does not depend on it)")
     try:
@@ -66,7 +68,7 @@ def main(argv: list[str]) -> int:
     if args.budget is not None and args.budget <= 0:
         print("tvl-lsp sample: --budget needs a number of seconds > 0", file=sys.stderr)
         return 2
-    if args.iterations < 1 or args.jobs < 1:
+    if (args.iterations is not None and args.iterations < 1) or args.jobs < 1:
         print("tvl-lsp sample: --iterations and --jobs need a number >= 1", file=sys.stderr)
         return 2
     from ...analysis.counting import CountTimeout
