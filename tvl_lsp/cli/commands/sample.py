@@ -117,7 +117,8 @@ def main(argv: list[str]) -> int:
     complete = result is None or result.complete
     if not configs:
         print("tvl-lsp sample: no product matches" if complete else
-              f"tvl-lsp sample: no configuration within {args.budget:g} s", file=sys.stderr)
+              f"tvl-lsp sample: stopped by the budget ({args.budget:g} s) before the first configuration",
+              file=sys.stderr)
     elif not complete:
         print(f"tvl-lsp sample: stopped by the budget ({args.budget:g} s): {len(configs)} configurations cover "
               f"{100 * result.coverage:.2f}% of the {_what(args.t)} found possible so far ({result.left} not covered yet); "
