@@ -19,7 +19,7 @@ AUTO_MAX = 32
 
 # 3-wise bookkeeping is one bitset per pair of literals: beyond this many bytes, refuse (the
 # message says how many features to decide first)
-MAX_TRIPLE_MEMORY = 3 * 2 ** 30
+MAX_TRIPLE_MEMORY = 2 ** 30
 
 
 @dataclass
@@ -94,6 +94,14 @@ def _one_run(clauses, n: int, t: int, seed: int, k: int, assumptions: Sequence[i
             res.complete = True
             return res
         init, cls = _cover_class(te)
+        if te == 3:
+            from .triples import triple_memory
+            need = triple_memory(p)
+            if need > MAX_TRIPLE_MEMORY:
+                raise ValueError(
+                    f"3-wise sampling of {len(p.reps)} independent features would need about "
+                    f"{need / 2 ** 30:.1f} GB of memory (at most {MAX_TRIPLE_MEMORY / 2 ** 30:g} GB here): decide "
+                    "some features first (--include / --exclude), or sample pairwise (--t 2)")
         state: CoverState = init(p)
         res.considered = state.total
         cover = cls(p, state, _rng(seed, k), check)
