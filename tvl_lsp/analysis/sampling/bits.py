@@ -9,6 +9,8 @@ thousand features is a few hundred machine words per set.
 
 from __future__ import annotations
 
+import random
+from itertools import compress, count
 from typing import Iterable, Iterator, Sequence
 
 _TO_DIGITS = bytes.maketrans(b"\x00\x01", b"12")  # a model's sign per variable -> base-4 digit
@@ -36,12 +38,23 @@ def negate(bits: int, even: int) -> int:
     return ((bits & even) << 1) | ((bits >> 1) & even)
 
 
+_ONE = "1".__eq__
+
+
 def iter_bits(x: int) -> Iterator[int]:
-    """The set bits of ``x``, lowest first."""
-    while x:
-        low = x & -x
-        yield low.bit_length() - 1
-        x ^= low
+    """The set bits of ``x``, lowest first (its binary digits read in C: one pass over the int,
+    not one big-int operation per bit)."""
+    return compress(count(), map(_ONE, bin(x)[:1:-1])) if x > 0 else iter(())
+
+
+def shuffled(items: Sequence[int], rng: random.Random) -> list[int]:
+    """``items`` in a random order drawn from ``rng`` (one call for all the random numbers:
+    ``rng.shuffle`` makes one Python call per item)."""
+    k = len(items)
+    if k < 2:
+        return list(items)
+    keys = memoryview(rng.randbytes(4 * k)).cast("I")
+    return [items[i] for i in sorted(range(k), key=keys.__getitem__)]
 
 
 def from_indices(indices: Iterable[int]) -> int:

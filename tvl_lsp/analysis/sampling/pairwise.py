@@ -24,11 +24,11 @@ least one new pair or proves pairs invalid, so the loop ends with every valid pa
 from __future__ import annotations
 
 import random
-import time
 from dataclasses import dataclass, field
+from itertools import compress
 from typing import Callable, Optional
 
-from .bits import from_model, idx, iter_bits, lit, negate
+from .bits import from_model, iter_bits, lit, negate, shuffled
 from .prepare import Prepared
 
 
@@ -44,6 +44,7 @@ class CoverState:
     invalid: int = 0                  # proven invalid since
     products: list[list[int]] = field(default_factory=list)  # solver models, features only
     sat_calls: int = 0
+    cnt: list[int] = field(default_factory=list)  # unc[i].bit_count(), kept up to date (t = 2)
 
     def left(self) -> int:
         return sum(map(int.bit_count, self.unc)) // 2
@@ -68,7 +69,7 @@ def initial_pairs(p: Prepared) -> CoverState:
             u = p.repmask & ~(3 << (2 * v - 2)) & ~nb[i]
             unc[i] = u
             total += u.bit_count()
-    return CoverState(unc=unc, total=total // 2)
+    return CoverState(unc=unc, total=total // 2, cnt=list(map(int.bit_count, unc)))
 
 
 class PairCover:
@@ -91,31 +92,28 @@ class PairCover:
         return ok
 
     def _learn_invalid(self, a: int, b: int) -> None:
-        unc = self.st.unc
+        unc, cnt = self.st.unc, self.st.cnt
         if (unc[a] >> b) & 1:
             unc[a] &= ~(1 << b)
             unc[b] &= ~(1 << a)
             self.st.invalid += 1
+            if cnt:
+                cnt[a] -= 1
+                cnt[b] -= 1
 
     # ------------------------------------------------------------------ one configuration
     def _seed(self, active: list[int]) -> Optional[tuple[int, int]]:
         """The pair to start a configuration from: a literal with the most uncovered pairs and
         its partner with the most; a pair that proves invalid is learnt, and the next tried."""
-        unc = self.st.unc
+        unc, cnt = self.st.unc, self.st.cnt
+        key = cnt.__getitem__
         while True:
-            best, bc = -1, -1
-            for i in active:
-                c = unc[i].bit_count()
-                if c > bc:
-                    best, bc = i, c
-            if bc <= 0:
+            if not active:
                 return None
-            u = unc[best]
-            b, cb = -1, -1
-            for j in iter_bits(u):
-                c = unc[j].bit_count()
-                if c > cb:
-                    b, cb = j, c
+            best = max(active, key=key)
+            if cnt[best] <= 0:
+                return None
+            b = max(iter_bits(unc[best]), key=key)
             if self._sat([lit(best), lit(b)]):
                 return best, b
             self._learn_invalid(best, b)
@@ -125,7 +123,7 @@ class PairCover:
         every pair is covered or proven invalid."""
         p, unc, imp, nimp = self.p, self.st.unc, self.p.imp, self.p.nimp
         even, n = p.even, self.n
-        active = [i for i in range(len(unc)) if unc[i]]
+        active = list(compress(range(len(unc)), unc))
         seed = self._seed(active)
         if seed is None:
             return None
@@ -134,11 +132,9 @@ class PairCover:
         L = imp[a] | imp[b] | (1 << a) | (1 << b)
         NL = negate(L, even)
         bad = 0
-        avars = sorted({i >> 1 for i in active})
-        self.rng.shuffle(avars)
+        avars = shuffled(sorted({i >> 1 for i in active}), self.rng)
         rnd = self.rng.random
-        order = [i for i in active]
-        self.rng.shuffle(order)
+        order = shuffled(active, self.rng)
         skipped = avars
         for rounds in range(3):
             # A: each variable towards the literal with more uncovered pairs with the literals
@@ -169,11 +165,12 @@ class PairCover:
             # B: an uncovered pair of two undecided variables that fits (the tail: pairs that
             # share no literal with the configuration so far)
             added = False
+            blocked = L | NL | bad
             for x in order:
                 xb = 1 << x
-                if (L | NL | bad) & xb or imp[x] & NL:
+                if blocked & xb or imp[x] & NL:
                     continue
-                cand = unc[x] & ~(L | NL | bad)
+                cand = unc[x] & ~blocked
                 if not cand:
                     continue
                 lx = imp[x] | xb
@@ -186,19 +183,21 @@ class PairCover:
                     dec.append(lit(y))
                     L |= lx | imp[y] | yb
                     NL |= nimp[x] | nimp[y]
+                    blocked = L | NL | bad
                     added = True
                     break
             if not added:
                 break
-        # complete: the undecided variables towards their better literal; one SAT call (more
-        # when unit propagation missed a conflict: drop the latest decision of the core)
+        # complete: the undecided variables with uncovered pairs towards their better literal (the
+        # others cover nothing whatever they are); one SAT call (more when unit propagation
+        # missed a conflict: drop the latest decision of the core)
         pref = []
-        for v2 in p.reps:
-            i = 2 * v2 - 2
+        for v2 in skipped:
+            i = 2 * v2
             if not (L >> i) & 3:
                 gp = (unc[i] & L).bit_count()
                 gn = (unc[i + 1] & L).bit_count()
-                pref.append(v2 if gp > gn or (gp == gn and rnd() < 0.5) else -v2)
+                pref.append(v2 + 1 if gp > gn or (gp == gn and rnd() < 0.5) else -v2 - 1)
         self.s.set_phases(pref)
         while not self._sat(dec):
             core = set(self.s.get_core() or ())
@@ -209,10 +208,13 @@ class PairCover:
             del dec[drop]
         product = self.model[:n]
         wb = from_model(product, n) & p.repmask
+        cnt = self.st.cnt
         for i in iter_bits(wb):
             u = unc[i]
             if u:
-                unc[i] = u & ~wb
+                u &= ~wb
+                unc[i] = u
+                cnt[i] = u.bit_count()
         return product
 
 
@@ -232,10 +234,9 @@ class LiteralCover(PairCover):
     def next_configuration(self) -> Optional[list[int]]:
         p, unc, imp, nimp = self.p, self.st.unc, self.p.imp, self.p.nimp
         even, n = p.even, self.n
-        order = [i for i in range(len(unc)) if unc[i]]
+        order = shuffled(list(compress(range(len(unc)), unc)), self.rng)
         if not order:
             return None
-        self.rng.shuffle(order)
         dec: list[int] = []
         L = NL = 0
         for x in order:
