@@ -199,10 +199,11 @@ def main(argv: list[str]) -> int:
             model_rows = []
             for tool in args.tools.split(","):
                 row = run_tool(tool, model, cnf, args.t, args.timeout, args)
-                row["model"] = Path(model).name
+                mp = Path(model)
+                row["model"] = mp.name if mp.suffix in (".dimacs", ".cnf") else f"{mp.parent.parent.name}/{mp.name}"
                 model_rows.append(row)
                 size = row.get("size", "-")
-                how = "all pairs" if row.get("exhaustive") else "sampled"
+                how = "exhaustive" if row.get("exhaustive") else "random sample"
                 note = row.get("error") or row.get("note") or ""
                 if row.get("partial_configurations"):
                     note += f" {row['partial_configurations']} partial configurations"

@@ -15,9 +15,10 @@ must go) checks the result, as for pairs.
 
 from __future__ import annotations
 
+from itertools import compress
 from typing import Optional
 
-from .bits import from_model, iter_bits, lit
+from .bits import from_model, iter_bits, lit, shuffled
 from .pairwise import CoverState, PairCover, initial_pairs
 from .prepare import Prepared
 
@@ -104,10 +105,9 @@ class TripleCover(PairCover):
 
     def _seed3(self) -> Optional[tuple[int, int, int]]:
         act = self.st.act_
-        order = [a for a in range(len(act)) if act[a]]
+        order = shuffled(list(compress(range(len(act)), act)), self.rng)
         if not order:
             return None
-        self.rng.shuffle(order)
         for a in order:
             while act[a]:
                 # the partner with the most uncovered triples with a
@@ -138,8 +138,8 @@ class TripleCover(PairCover):
             NL |= nimp[x]
         bad = 0
         rnd = self.rng.random
-        avars = sorted({a >> 1 for a in range(len(act)) if act[a]})
-        self.rng.shuffle(avars)
+        size = len(act)
+        avars = shuffled(sorted({a >> 1 for a in compress(range(size), act)}), self.rng)
         skipped = avars
         for rounds in range(3):
             todo, skipped = skipped, []
@@ -148,11 +148,12 @@ class TripleCover(PairCover):
                 if (L >> i) & 3:
                     continue
                 g = [0, 0]
+                xs = (act[i] & L, act[i + 1] & L)
                 for s_ in (0, 1):
                     c = i + s_
                     row = tri[c]
                     tot = 0
-                    for x in iter_bits(act[c] & L):
+                    for x in iter_bits(xs[s_]):
                         tot += ((row[x] if c < x else tri[x][c]) & L).bit_count()
                     g[s_] = tot
                 gp, gn = g
@@ -174,8 +175,7 @@ class TripleCover(PairCover):
                 break
             # the tail: an uncovered triple of undecided literals that fits
             added = False
-            order = [a for a in range(len(act)) if act[a]]
-            self.rng.shuffle(order)
+            order = shuffled(list(compress(range(len(act)), act)), self.rng)
             for a in order:
                 ab = 1 << a
                 if (NL | bad) & ab or imp[a] & NL:
