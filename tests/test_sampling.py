@@ -273,3 +273,19 @@ def test_generate_python_format_needs_ros2(tmp_path, capsys):
     assert generate_cmd.main([str(launch), "--mode", "sample", "--format", "python", "--workspace", str(ws),
                               "--dry-run"]) == 2
     assert "ROS 2" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("t", [1, 2, 3])
+def test_features_in_no_clause_and_units(t):
+    """Features the clauses never mention are free; a unit clause fixes one."""
+    for clauses, n in (([], 3), ([[1, 2]], 4), ([[2]], 3)):
+        r = sample(clauses, n, t=t)
+        assert r.complete and all(len(p) == n for p in r.products)
+        v = verify(clauses, n, r.products, t=t)
+        assert v.ok and v.exhaustive, v.summary()
+        got = {tuple(sorted(c)) for p in r.products for c in itertools.combinations(p, t)}
+        every = {tuple(sorted(c)) for vs in itertools.combinations(range(1, n + 1), t)
+                 for c in itertools.product(*[(x, -x) for x in vs])
+                 if all(any(lit in c for lit in cl) or any(abs(lit) not in vs for lit in cl) for cl in clauses)
+                 and not (clauses == [[2]] and -2 in c)}
+        assert every <= got

@@ -67,6 +67,9 @@ def prepare(clauses: Sequence[Sequence[int]], n: int, assumptions: Sequence[int]
     ``time.monotonic()`` after which :class:`SamplingTimeout` is raised."""
     t0 = time.monotonic()
     s = new_solver(clauses)
+    known = max(0, s.nof_vars() or 0)
+    for v in range(known + 1, n + 1):  # features in no clause: the solver must know them
+        s.add_clause([v, -v])          # (its models then list every feature)
     for x in assumptions:
         s.add_clause([x])
     if not s.solve():
