@@ -3,22 +3,24 @@
 The interactions are the pairs of literals of two representative variables (see
 :mod:`.prepare`).  ``unc[a]`` is the bitset of the literals ``b`` such that the pair ``(a, b)`` is
 not covered yet and not known to be invalid (symmetric: ``b`` in ``unc[a]`` iff ``a`` in
-``unc[b]``).  Pairs known invalid from the implications are never in it.
+``unc[b]``).  Pairs known invalid from the implications never enter it.
 
-One configuration at a time (IncLing's order, YASA's tests):
+One configuration at a time (IncLing's order, AETG's density, YASA's tests):
 
-- the literals with uncovered pairs are visited in a seeded order; literal ``a`` joins the
-  configuration with every partner ``b`` of an uncovered pair ``(a, b)`` that can still join it;
-- *can join* is decided cheaply first: a literal whose negation the decisions so far force
-  (unit propagation, :attr:`Prepared.imp`) cannot; a literal the current *witness* (the last
-  model the solver gave for the decisions) has can, without a SAT call; only the others cost a
-  SAT call under assumptions, whose model becomes the new witness;
-- a SAT call that fails with an unsatisfiable core inside the pair proves the pair invalid: it
-  leaves ``unc`` for good (learnt once);
-- the configuration is the last witness: every pair of its literals is covered.
+- **seed**: the literal with the most uncovered pairs and its partner with the most; the solver
+  confirms the pair (a pair it refuses is invalid: it leaves ``unc`` for good, learnt once);
+- **density**: every variable with uncovered pairs, in a seeded order, takes the literal with
+  more uncovered pairs with the literals the configuration already has (what its decisions force
+  by unit propagation, ``L``), unless propagation says it conflicts with them (``NL``);
+- **tail**: when no variable gains anything, an uncovered pair of two undecided variables that
+  fits is added, and the density pass runs again;
+- **check**: one SAT call with the decisions as assumptions (the undecided variables with
+  uncovered pairs get phases towards their better literal); when propagation missed a conflict,
+  the core names the decisions involved and the latest goes;
+- the configuration is the solver's model: every pair of its literals is covered.
 
-Every configuration is a model of the CNF (a solver model), and each configuration covers at
-least one new pair or proves pairs invalid, so the loop ends with every valid pair covered.
+Every configuration is a model of the CNF, and each covers at least its seed pair (or the seed
+proves invalid), so the loop ends with every valid pair covered.
 """
 
 from __future__ import annotations
