@@ -12,9 +12,11 @@ from ..sat import SolverInterrupted, cpu_limit
 from .pairwise import CoverState, LiteralCover, PairCover, Stop, initial_literals, initial_pairs
 from .prepare import Prepared, SamplingTimeout, prepare
 
-# with iterations=None, runs while they are cheap: about this many interactions in all (a model
-# with 4,000 pairs gets 32 runs, busybox's 1.2 million 3, automotive01's 5.8 million 1)
-AUTO_WORK = 4_000_000
+# with iterations=None, runs while they are cheap: a run's work is about its configurations times
+# the representative features (each configuration visits each of them); runs are added up to
+# this much work in all (turtlebot pairwise: 23 x 20, 32 runs; busybox: 30 x 790, 4 runs;
+# fiasco: 226 x 180, 2; automotive01: 963 x 1,701, 1)
+AUTO_WORK = 100_000
 AUTO_MAX = 32
 
 # 3-wise bookkeeping is one bitset per pair of literals: beyond this many bytes, refuse (the
@@ -139,8 +141,8 @@ def sample(clauses: Sequence[Sequence[int]], n: int, t: int = 2, seed: int = 0,
     ``1..n``, among the products with ``assumptions``.  ``budget``: seconds (wall clock) for
     the whole call; when it runs out the result is partial (``complete`` False, ``left`` the
     interactions not covered yet).  ``iterations``: independent runs (seeds derived from
-    ``seed``), the smallest complete sample is kept (None: as many as are cheap, from the number
-    of interactions: :data:`AUTO_WORK`); ``jobs`` runs them in parallel processes (the answer does
+    ``seed``), the smallest complete sample is kept (None: as many as are cheap, from the size
+    of the first: :data:`AUTO_WORK`); ``jobs`` runs them in parallel processes (the answer does
     not depend on it)."""
     if t not in (1, 2, 3):
         raise ValueError("t-wise sampling supports t = 1, 2 and 3")
@@ -151,7 +153,8 @@ def sample(clauses: Sequence[Sequence[int]], n: int, t: int = 2, seed: int = 0,
         first = _one_run(clauses, n, t, seed, 0, assumptions, deadline, cancel)
         runs.append(first)
         if iterations is None:
-            iterations = max(1, min(AUTO_MAX, AUTO_WORK // max(1, first.considered)))
+            work = max(1, len(first.products) * first.representatives)
+            iterations = max(1, min(AUTO_MAX, AUTO_WORK // work))
         if first.complete and not first.void and iterations > 1:
             if jobs <= 1:
                 for k in range(1, iterations):

@@ -14,7 +14,7 @@ same ``--seed`` (default 0) gives the same sample, whatever ``--jobs``.  ``--bud
 after S seconds (wall clock) with what is there: a t-wise sample cut short is printed all the
 same, with a warning saying the coverage reached and the interactions left, and the exit code is
 1.  ``--iterations K``: K independent runs (other seeds), the smallest sample kept (default: as
-many as are cheap -- 32 for a robot's model, 3 for busybox, 1 for automotive01); ``--jobs J``
+many as are cheap -- 32 for a robot's model, 4 for busybox, 1 for automotive01); ``--jobs J``
 runs them in J processes.
 
 Output (``--format``): ``text`` one line per configuration, its selected features; ``json`` one
