@@ -104,8 +104,8 @@ def main(argv: list[str]) -> int:
         return 2
     if partial is not None:
         print(f"tvl-lsp generate: sampling stopped by the budget ({args.budget:g} s): {len(products)} "
-              f"configurations cover {100 * partial.coverage:.2f}% of the interactions found possible so far "
-              f"({partial.left} not covered yet); a larger --budget completes it", file=sys.stderr)
+              f"configurations cover {100 * partial.coverage:.2f}% of the interactions ({partial.left} not covered "
+              "yet, none of them known to be invalid); a larger --budget completes it", file=sys.stderr)
     analysis = analyse_any(ltext, launch, workspace_root=root)
     names = {f.name for f in res.model.features} | {f.long_name for f in res.model.features}
     features = [a.name for a in analysis.feature_args if a.name in names and getattr(a, "value", None) is None]

@@ -121,9 +121,8 @@ def main(argv: list[str]) -> int:
               file=sys.stderr)
     elif not complete:
         print(f"tvl-lsp sample: stopped by the budget ({args.budget:g} s): {len(configs)} configurations cover "
-              f"{100 * result.coverage:.2f}% of the {_what(args.t)} found possible so far ({result.left} not covered yet); "
-              "a larger --budget "
-              "completes it", file=sys.stderr)
+              f"{100 * result.coverage:.2f}% of the {_what(args.t)} ({result.left} not covered yet, none of them "
+              "known to be invalid); a larger --budget completes it", file=sys.stderr)
     if args.format == "json":
         out = {"model": args.model, "configurations": configs, "size": len(configs),
                "engine": engine, "t": args.t, "uniform": args.uniform, "seed": args.seed,
@@ -145,7 +144,7 @@ def main(argv: list[str]) -> int:
 
 
 def _what(t) -> str:
-    return {1: "valid feature literals", 2: "valid pairs", 3: "valid triples"}.get(t, "interactions")
+    return {1: "feature literals", 2: "pairs", 3: "triples"}.get(t, "interactions")
 
 
 def _stats(r) -> dict:
