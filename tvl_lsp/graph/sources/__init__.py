@@ -1,0 +1,130 @@
+"""The computation graph read from the package sources (issue #26): each program's publishers,
+subscriptions, services, actions and parameters, with their types, for ROS 1 and ROS 2, C++ and
+Python, read with tree-sitter (no compiler, no headers, no ``compile_commands.json``).
+
+    ex = extract(["ws/src"])              # Extraction: packages, executables, endpoints, notes
+    ex.endpoints()                        # every call site (Endpoint), sorted
+    ex.by_node_type()["turtlesim/turtlesim_node"].endpoints
+
+Pure: files are read through the bounded reader; facts are cached by content
+(:mod:`.cache`); ``texts`` gives unsaved editor contents.  The graph (:mod:`tvl_lsp.graph.build`)
+resolves the names of each launched node against its namespace and remaps.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Mapping, Optional
+
+from ...base.files import read_text_or_none
+from . import cache
+from .discover import PackageFiles, Program, cpp_programs, find_packages, package_files, python_programs
+from .link import dedupe, link_cpp, link_py
+from .model import KINDS, LINK_OF_KIND, RESOURCE_OF, Endpoint, Executable, Extraction, Package
+
+__all__ = ["extract", "Extraction", "Executable", "Endpoint", "Package", "KINDS", "LINK_OF_KIND", "RESOURCE_OF",
+           "source_language"]
+
+_API_CLASSES = ("ActionServer", "ActionClient", "Subscriber", "SubscriberFilter", "ServiceClient")
+
+
+def source_language(path: str) -> Optional[str]:
+    """``cpp`` / ``python`` for a source extraction reads, else None."""
+    low = path.lower()
+    if low.endswith((".cpp", ".cc", ".cxx", ".c++", ".cu", ".h", ".hpp", ".hh", ".hxx", ".h++", ".ipp", ".tpp")):
+        return "cpp"
+    if low.endswith(".py"):
+        return "python"
+    return None
+
+
+def extract(paths, texts: Optional[Mapping[str, str]] = None, disk: bool = True) -> Extraction:
+    """Every package under (or around) ``paths``: its programs and their endpoints."""
+    texts = {os.path.normpath(os.path.abspath(k)): v for k, v in (texts or {}).items()}
+
+    def read(p: str) -> Optional[str]:
+        p = os.path.normpath(p)
+        if p in texts:
+            return texts[p]
+        return read_text_or_none(p, 4 * 1024 * 1024)
+
+    ex = Extraction()
+    stats = cache.Stats()
+    pkgs = find_packages([os.path.abspath(p) for p in paths])
+    pfs: list[PackageFiles] = []
+    known: dict[str, set] = {}
+    for pkg in pkgs:
+        pf = package_files(pkg, read)
+        pfs.append(pf)
+        known[pkg.name] = pf.interfaces
+        ex.notes += pf.notes
+    facts_memo: dict[str, Optional[dict]] = {}
+
+    def facts(path: str, lang: str) -> Optional[dict]:
+        if path in facts_memo:
+            return facts_memo[path]
+        f, note = cache.facts_for(path, lang, texts.get(path), stats, disk)
+        if note and "syntax errors" not in note:
+            ex.notes.append(f"{path}: {note}")
+        facts_memo[path] = f
+        return f
+
+    def includes_of(path: str) -> list[str]:
+        f = facts(path, "cpp")
+        return f.get("includes", []) if f else []
+
+    def imports_of(path: str) -> list:
+        f = facts(path, "python")
+        return f.get("imports", []) if f else []
+
+    def has_calls(lang: str):
+        def test(path: str) -> bool:
+            f = facts(path, lang)
+            if not f:
+                return False
+            if f.get("calls"):
+                return True
+            return any(any(k in (c.get("t") or "") for k in _API_CLASSES) for c in f.get("ctors", []))
+        return test
+
+    for pf in pfs:
+        pkg = pf.package
+        ex.packages.append(pkg)
+        progs: list[Program] = cpp_programs(pf, includes_of, has_calls("cpp"))
+        progs += python_programs(pf, read, imports_of, has_calls("python"))
+        ros = pkg.ros or _guess_ros(pf, facts)
+        for prog in progs:
+            lang = prog.language
+            files = [(f, facts(f, lang)) for f in prog.files]
+            files = [(f, x) for f, x in files if x]
+            if lang == "cpp":
+                eps = link_cpp(pkg.name, prog.name, ros, files, known, prog.only_class)
+            else:
+                eps = link_py(pkg.name, prog.name, ros, files, known)
+            eps = dedupe(eps)
+            eps.sort(key=lambda e: (e.file, e.line, e.col, e.kind, e.name))
+            ex.executables.append(Executable(pkg.name, prog.name, prog.kind, lang, list(prog.files), eps,
+                                             list(prog.aliases)))
+    ex.files_read = stats.read
+    ex.files_parsed = stats.parsed
+    if disk:
+        cache.flush()
+    ex.executables.sort(key=lambda x: (x.package, x.name, x.kind))
+    return ex
+
+
+def _guess_ros(pf: PackageFiles, facts) -> int:
+    votes = {1: 0, 2: 0}
+    for f in pf.cpp[:200]:
+        x = facts(f, "cpp")
+        for c in (x or {}).get("calls", []):
+            if c.get("ros") in votes:
+                votes[c["ros"]] += 1
+    for f in pf.python[:200]:
+        x = facts(f, "python")
+        for c in (x or {}).get("calls", []):
+            if c.get("ros") in votes:
+                votes[c["ros"]] += 1
+    if votes[1] == votes[2]:
+        return 0
+    return 1 if votes[1] > votes[2] else 2
