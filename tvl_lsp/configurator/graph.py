@@ -94,8 +94,8 @@ class Graph:
 
 # ------------------------------------------------------------------ issue #16's graph
 
-_EDGE_DIRECTION = {"publish": True, "client": True, "write": True,   # node -> resource
-                   "subscribe": False, "service": False, "read": False}
+_EDGE_DIRECTION = {"publish": True, "client": True, "write": True, "action_client": True,  # node -> resource
+                   "subscribe": False, "service": False, "read": False, "action_server": False}
 
 
 def _loc16(x: Optional[dict]) -> Optional[dict]:
@@ -142,7 +142,7 @@ class PackageGraph:
             els.append({"id": n["id"], "kind": "node", "name": n["name"], "label": n["name"].rsplit("/", 1)[-1] or n["name"],
                         "condition": n.get("condition"), "location": _loc16((n.get("locations") or [None])[0]),
                         "details": det})
-        for key, kind in (("topics", "topic"), ("services", "service"), ("parameters", "param")):
+        for key, kind in (("topics", "topic"), ("services", "service"), ("actions", "action"), ("parameters", "param")):
             for r in j.get(key, []):
                 det = {}
                 if r.get("type"):
@@ -151,6 +151,8 @@ class PackageGraph:
                     det["types"] = ", ".join(f"{t['type']} when {t['condition'] or 'always'}" for t in r["types"])
                 if "value" in r and r["value"] is not None:
                     det["value"] = r["value"]
+                if r.get("dynamic"):
+                    det["dynamic"] = "computed at run time: {…} stands for what is not known before"
                 els.append({"id": r["id"], "kind": kind, "name": r["name"], "label": r["name"],
                             "condition": r.get("condition"),
                             "location": _loc16((r.get("locations") or [None])[0]), "details": det})
@@ -158,7 +160,7 @@ class PackageGraph:
         for ln in j.get("links", []):
             out = _EDGE_DIRECTION.get(ln["kind"], True)
             via = (ln.get("via") or [None])[0] or {}
-            loc = _loc16(via.get("remap")) or _loc16(via.get("hint"))
+            loc = _loc16(via.get("remap")) or _loc16(via.get("hint")) or _loc16(via.get("source"))
             edges.append({"id": ln["id"], "source": ln["node_id"] if out else ln["resource_id"],
                           "target": ln["resource_id"] if out else ln["node_id"], "kind": ln["kind"],
                           "condition": ln.get("condition"), "location": loc})
@@ -167,12 +169,12 @@ class PackageGraph:
     @property
     def ids(self) -> list[str]:
         j = self._all
-        return ([x["id"] for x in j.get("nodes", [])] + [x["id"] for k in ("topics", "services", "parameters")
+        return ([x["id"] for x in j.get("nodes", [])] + [x["id"] for k in ("topics", "services", "actions", "parameters")
                                                          for x in j.get(k, [])] + [x["id"] for x in j.get("links", [])])
 
     def statuses(self, decisions: Mapping[str, bool], logic=None) -> dict[str, str]:
         j = self._to_json(self.ctx.project(dict(decisions)))
-        present = {x["id"]: x.get("condition") for k in ("nodes", "topics", "services", "parameters", "links")
+        present = {x["id"]: x.get("condition") for k in ("nodes", "topics", "services", "actions", "parameters", "links")
                    for x in j.get(k, [])}
         return {i: ("absent" if i not in present else "certain" if present[i] is None else "possible")
                 for i in self.ids}

@@ -8,9 +8,11 @@ pipeline and the server's hover / ``tvl-lsp.graph`` command share.
     ctx.close()
 
 The model is the launch file's pairing (:mod:`tvl_lsp.project.workspace`), unless ``model`` names one.
-Hints come from ``project_files`` if given, else from the HAROS project files whose
-configurations name the launch file, else from every project file of the workspace (their
-``nodes:`` sections; see :mod:`tvl_lsp.graph.hints`).  Pure: no LSP here.
+What each node uses comes from its package's sources in the workspace
+(:mod:`tvl_lsp.graph.sources`) and from hints: those of ``project_files`` if given, else from
+the HAROS project files whose configurations name the launch file, else from every project
+file of the workspace (their ``nodes:`` sections; see :mod:`tvl_lsp.graph.hints`).  Pure: no
+LSP here.
 """
 
 from __future__ import annotations
@@ -40,6 +42,8 @@ class GraphContext:
     model_analysis: Optional[ModelAnalysis] = None
     configs: Optional[list[str]] = None
     features: list[str] = field(default_factory=list)
+    extraction: object = None           # tvl_lsp.graph.sources.Extraction (None: sources not read)
+    extraction_root: Optional[str] = None
 
     def project(self, decisions: Optional[Mapping[str, bool]] = None, count: bool = False,
                 count_timeout: Optional[float] = 10.0) -> Graph:
@@ -80,10 +84,24 @@ def free_args_of(text: str, path: str) -> list[str]:
     return free_top_args(text, path)
 
 
+def extraction_for(root: str, read_file=None):
+    """What the sources of the workspace's packages make their programs use (None when the
+    workspace has no package); unsaved editor texts (a reader's ``texts``) are read as they are."""
+    from ..graph.sources import extract
+    texts = getattr(read_file, "texts", None)
+    try:
+        ex = extract([root], texts=texts)
+    except (OSError, ValueError, RecursionError, MemoryError):
+        return None
+    return ex if ex.packages else None
+
+
 def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: Optional[Sequence[str]] = None,
                workspace: Optional[Workspace] = None, model: Optional[str] = None,
-               project_files: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None) -> GraphContext:
-    """Pair, parse, load symbolically and build the graph of ``launch`` (see the module doc)."""
+               project_files: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None,
+               sources: bool = True) -> GraphContext:
+    """Pair, parse, load symbolically and build the graph of ``launch`` (see the module doc);
+    ``sources``: read what the nodes use from the workspace's sources too."""
     from ..launch import analyse_any
     path = norm(launch)
     base_read = read_file or default_read_file
@@ -127,10 +145,14 @@ def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: O
     free = [n for n in free_args_of(text, path) if enc is None or enc.feature_by_name(n) is None]
     analysis = analyse_any(text, path, workspace_root=root, read_file=read, features=features + free, env=env)
     hints, configs = hints_for(workspace, path, read, project_files)
-    graph = build_graph(analysis, hints, configs)
+    ex = extraction_for(root, read_file) if sources else None
+    graph = build_graph(analysis, hints, configs, ex.by_node_type() if ex is not None else None)
     graph.model = model_path
     logic = GraphLogic(enc, features + free, ma)
-    return GraphContext(path, model_path, analysis, graph, logic, hints, ma, configs, features + free)
+    ctx = GraphContext(path, model_path, analysis, graph, logic, hints, ma, configs, features + free)
+    ctx.extraction = ex
+    ctx.extraction_root = root if sources else None
+    return ctx
 
 
 def _root_for(path: str, roots: Optional[Sequence[str]]) -> str:
@@ -150,6 +172,7 @@ class _RecordingReader:
     def __init__(self, read):
         self.read = read
         self.seen: dict[str, Optional[str]] = {}
+        self.texts = getattr(read, "texts", None)   # unsaved editor texts (sources read them)
 
     def __call__(self, path: str) -> Optional[str]:
         t = self.read(path)
@@ -169,7 +192,7 @@ def cached_graph(path: str, read_file=None, roots: Optional[Sequence[str]] = Non
     hit = _CACHE.get(key)
     if hit is not None:
         seen, ctx = hit
-        if all(read(p) == t for p, t in seen.items()):
+        if all(read(p) == t for p, t in seen.items()) and _same_sources(ctx, read):
             return ctx
         _CACHE.pop(key, None)
         ctx.close()
@@ -184,6 +207,30 @@ def cached_graph(path: str, read_file=None, roots: Optional[Sequence[str]] = Non
         old.close()
     _CACHE[key] = (rec.seen, ctx)
     return ctx
+
+
+def sources_signature(ex) -> Optional[str]:
+    """A digest of what an extraction found (its programs and endpoints)."""
+    if ex is None:
+        return None
+    import hashlib
+    h = hashlib.sha1()
+    for x in ex.executables:
+        h.update(f"{x.package}/{x.name}/{x.kind}\0".encode())
+        for e in x.endpoints:
+            h.update(repr(sorted(e.row().items())).encode())
+    return h.hexdigest()
+
+
+def _same_sources(ctx: GraphContext, read) -> bool:
+    """Whether the workspace's sources still say what they said when ``ctx`` was built (only
+    changed files are parsed again: see tvl_lsp.graph.sources.cache)."""
+    if ctx.extraction_root is None:
+        return True
+    now = extraction_for(ctx.extraction_root, read)
+    if sources_signature(now) == sources_signature(ctx.extraction):
+        return True
+    return False
 
 
 def graph_document(path: str, read_file=None, roots: Optional[Sequence[str]] = None,
@@ -207,8 +254,9 @@ class NodeUse:
     name: str                 # resolved name
     type: Optional[str]
     condition: Optional[str]  # relative to the node being loaded (None: whenever it is)
-    written: list[str]        # the names as the hints write them
+    written: list[str]        # the names as the hints (or the sources) write them
     remap: Optional[str]      # the <remap> that renamed it
+    sources: list[str] = field(default_factory=list)   # where the sources ask for it ("turtle.cpp:55")
 
 
 @dataclass
@@ -220,7 +268,8 @@ class NodeInfo:
     note: Optional[str]
     uses: list[NodeUse]
     hints: list[str]          # where the hints are ("haros.yaml:12")
-    hints_available: bool = True  # the workspace has node hints at all
+    hints_available: bool = True  # the workspace has node hints (or sources) at all
+    extracted: bool = False   # what it uses was read from its sources
 
 
 def node_info(path: str, span_start, read_file=None, roots: Optional[Sequence[str]] = None) -> list[NodeInfo]:
@@ -249,8 +298,11 @@ def node_info(path: str, span_start, read_file=None, roots: Optional[Sequence[st
                 continue
             rel = None if o.empty(o.and_(base, o.not_(t))) else str(simp(ln.condition))
             remaps = [v.remap.label for v in ln.via if v.remap is not None]
+            srcs = sorted({f"{os.path.basename(v.source.path)}:{v.source.span.start.line + 1}"
+                           for v in ln.via if v.source is not None})
             uses.append(NodeUse(ln.kind, g.resources[ln.resource].name, ln.type, rel,
-                                sorted({v.name for v in ln.via}), remaps[0] if remaps else None))
+                                sorted({v.name for v in ln.via}), remaps[0] if remaps else None, srcs))
         hints = [f"{os.path.basename(h.path)}:{h.span.start.line + 1}" for h in n.hints]
-        out.append(NodeInfo(n.name, n.package, n.type, n.hinted, n.note, uses, hints, bool(ctx.hints)))
+        out.append(NodeInfo(n.name, n.package, n.type, n.known, n.note, uses, hints,
+                            bool(ctx.hints) or ctx.extraction is not None, n.extracted))
     return out

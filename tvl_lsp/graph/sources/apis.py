@@ -76,6 +76,8 @@ PARAM_VALUE_CALLS = {"param", "declare_parameter", "get_parameter", "get_paramet
 OUT_PARAM_CALLS = {"param": 1, "getParam": 1, "getParamCached": 1, "get_parameter": 1, "get_parameter_or": 1,
                    "get": 1}
 NODE_FIRST = {"declare_parameter_if_not_declared"}
+# calls whose last argument is the default value (when there is one past the name)
+DEFAULT_LAST = {"param", "declare_parameter", "get_parameter_or", "declare_parameter_if_not_declared"}
 NOT_USER_FUNCS = {"bind", "make_shared", "make_unique", "printf", "ROS_INFO", "ROS_WARN", "ROS_ERROR", "ROS_DEBUG",
                   "RCLCPP_INFO", "RCLCPP_WARN", "RCLCPP_ERROR", "RCLCPP_DEBUG", "c_str", "push_back", "size",
                   "emplace_back", "publish", "sleep", "ok", "spinOnce", "spin", "format", "str", "append", "find",

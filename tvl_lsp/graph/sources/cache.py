@@ -42,9 +42,29 @@ def _version(lang: str) -> int:
     return cpp.VERSION if lang == "cpp" else python.VERSION
 
 
+_FP: list = [None]
+
+
+def code_fingerprint() -> str:
+    """A digest of the extractor's own files (name, size, modification time): facts another
+    version of it stored are never read back."""
+    if _FP[0] is None:
+        here = os.path.dirname(os.path.abspath(__file__))
+        h = hashlib.sha256()
+        for fn in sorted(os.listdir(here)):
+            if fn.endswith(".py"):
+                try:
+                    st = os.stat(os.path.join(here, fn))
+                except OSError:
+                    continue
+                h.update(f"{fn}\0{st.st_size}\0{st.st_mtime_ns}\n".encode())
+        _FP[0] = h.hexdigest()[:16]
+    return _FP[0]
+
+
 def key_of(lang: str, data: bytes) -> str:
     h = hashlib.sha256()
-    h.update(f"{FORMAT}\n{lang}\n{_version(lang)}\n".encode())
+    h.update(f"{FORMAT}\n{lang}\n{_version(lang)}\n{code_fingerprint()}\n".encode())
     h.update(data)
     return h.hexdigest()
 

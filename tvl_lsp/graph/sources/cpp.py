@@ -645,9 +645,10 @@ class _Walker:
         vi = spec.get("value")
         if vi is not None and vi < len(argn):
             call["vtype"] = self.value_type(argn[vi])
-            call["default"] = self.t(argn[vi])[:120]
-        if spec["kind"].startswith("param") and len(argn) >= 2 and m == "param" and not targs:
+        if m in apis.DEFAULT_LAST and len(argn) > name_i + 1:
             call["default"] = self.t(argn[-1])[:120]
+            if not call.get("vtype"):
+                call["vtype"] = self.value_type(argn[-1])
         if spec["kind"].startswith("param") and not call.get("vtype") and n.start_byte in self.hints:
             call["vtype"] = self.hints[n.start_byte]
         if spec.get("fixed"):
@@ -771,6 +772,8 @@ class _Walker:
             field = a.child_by_field_name("field")
             if arg is not None and field is not None and self.t(arg) == "this":
                 return "@" + self.t(field)
+            if re.search(r"\.(linear|angular|position|orientation|translation|rotation|point|vector)\.[xyzw]$", t):
+                return "double"  # a geometry_msgs field (float64)
         if ty == "initializer_list":
             kids = a.named_children
             if kids:
