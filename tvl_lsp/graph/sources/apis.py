@@ -62,13 +62,25 @@ _CPP_FREE: dict[tuple[str, str], dict] = {
                                                      "fixed": "sensor_msgs/Image", "camera": True, "ros": 2},
     ("image_transport", "create_camera_subscription"): {"api": "image_transport", "kind": "subscribe", "name": 1,
                                                         "fixed": "sensor_msgs/Image", "camera": True, "ros": 2},
-    ("rclcpp", "create_publisher"): {"api": "rclcpp", "kind": "publish", "name": 1, "ros": 2},
-    ("rclcpp", "create_subscription"): {"api": "rclcpp", "kind": "subscribe", "name": 1, "cb": 3, "ros": 2},
+    ("rclcpp", "create_publisher"): {"api": "rclcpp", "kind": "publish", "name": 1, "ros": 2, "skip_nodes": True},
+    ("rclcpp", "create_subscription"): {"api": "rclcpp", "kind": "subscribe", "name": 1, "cb": 3, "ros": 2,
+                                        "skip_nodes": True},
+    ("rclcpp", "create_client"): {"api": "rclcpp", "kind": "client", "name": 0, "ctx": "srv", "ros": 2,
+                                  "skip_nodes": True},
+    ("rclcpp", "create_service"): {"api": "rclcpp", "kind": "service", "name": 0, "ctx": "srv", "ros": 2,
+                                   "skip_nodes": True},
+    ("rclcpp", "create_generic_publisher"): {"api": "rclcpp", "kind": "publish", "name": 0, "ros": 2,
+                                             "skip_nodes": True, "type_after_name": True},
+    ("rclcpp", "create_generic_subscription"): {"api": "rclcpp", "kind": "subscribe", "name": 0, "ros": 2,
+                                                "skip_nodes": True, "type_after_name": True},
     ("nav2_util", "declare_parameter_if_not_declared"): {"api": "rclcpp", "kind": "param_declare", "name": 1,
                                                          "value": 2, "ros": 2},
 }
 # the same, called unqualified (using-declarations, or inside the namespace)
-_CPP_UNQUALIFIED = {"declare_parameter_if_not_declared": ("nav2_util", "declare_parameter_if_not_declared")}
+_CPP_UNQUALIFIED: dict[str, tuple[str, str]] = {}
+# helpers known by their name whatever their namespace (nav2_util::, nav2::, unqualified)
+_ANY_PREFIX = {"declare_parameter_if_not_declared": {"api": "rclcpp", "kind": "param_declare", "name": 1,
+                                                     "value": 2, "ros": 2}}
 
 # calls whose result is a parameter's value
 PARAM_VALUE_CALLS = {"param", "declare_parameter", "get_parameter", "get_parameter_or", "declare_parameter_if_not_declared"}
@@ -76,8 +88,12 @@ PARAM_VALUE_CALLS = {"param", "declare_parameter", "get_parameter", "get_paramet
 OUT_PARAM_CALLS = {"param": 1, "getParam": 1, "getParamCached": 1, "get_parameter": 1, "get_parameter_or": 1,
                    "get": 1}
 NODE_FIRST = {"declare_parameter_if_not_declared"}
-# calls whose last argument is the default value (when there is one past the name)
-DEFAULT_LAST = {"param", "declare_parameter", "get_parameter_or", "declare_parameter_if_not_declared"}
+# where a parameter's default value is: the last argument, or the one after the name
+DEFAULT_AT = {"param": "last", "get_parameter_or": "last", "declare_parameter": "next",
+              "declare_parameter_if_not_declared": "next"}
+PARAM_METHODS = {"declare_parameter", "get_parameter", "get_parameter_or", "get_parameters", "set_parameter",
+                 "set_parameters", "set_parameters_atomically", "undeclare_parameter", "declare_parameters",
+                 "getParam", "setParam", "param", "deleteParam", "searchParam", "getParamCached"}
 NOT_USER_FUNCS = {"bind", "make_shared", "make_unique", "printf", "ROS_INFO", "ROS_WARN", "ROS_ERROR", "ROS_DEBUG",
                   "RCLCPP_INFO", "RCLCPP_WARN", "RCLCPP_ERROR", "RCLCPP_DEBUG", "c_str", "push_back", "size",
                   "emplace_back", "publish", "sleep", "ok", "spinOnce", "spin", "format", "str", "append", "find",
@@ -88,6 +104,8 @@ NOT_USER_FUNCS = {"bind", "make_shared", "make_unique", "printf", "ROS_INFO", "R
 
 def cpp_spec(m: str, prefix: Optional[str], nargs: int) -> Optional[dict]:
     """The spec of a C++ call ``prefix::m(...)`` / ``x.m(...)`` (prefix None: a method call)."""
+    if m in _ANY_PREFIX:
+        return _ok(_ANY_PREFIX[m], nargs)
     if prefix:
         p = prefix.lstrip(":")
         spec = _CPP_FREE.get((p, m))
@@ -125,17 +143,19 @@ def class_spec(base: str) -> Optional[dict]:
     parts = base.replace(" ", "").lstrip(":").split("::")
     last = parts[-1]
     ns = parts[-2] if len(parts) >= 2 else ""
-    if last in ("SimpleActionServer", "ActionServer") and ns in ("actionlib", "nav2_util", "") :
+    if last in ("SimpleActionServer", "ActionServer") and ns in ("actionlib", "nav2_util", "nav2", ""):
         return {"api": "actionlib" if ns in ("actionlib", "") else ns, "kind": "action_server", "ctx": "action",
-                "ros": 1 if ns == "actionlib" else (2 if ns == "nav2_util" else 0)}
+                "ros": 1 if ns == "actionlib" else (2 if ns in ("nav2_util", "nav2") else 0)}
     if last in ("SimpleActionClient", "ActionClient") and ns in ("actionlib", ""):
         return {"api": "actionlib", "kind": "action_client", "ctx": "action", "ros": 1 if ns == "actionlib" else 0}
     if last == "Subscriber" and ns == "message_filters":
         return {"api": "message_filters", "kind": "subscribe", "ctx": "msg", "ros": 0}
     if last == "SubscriberFilter" and ns == "image_transport":
         return {"api": "image_transport", "kind": "subscribe", "fixed": "sensor_msgs/Image", "ros": 0}
-    if last == "ServiceClient" and ns == "nav2_util":
-        return {"api": "nav2_util", "kind": "client", "ctx": "srv", "ros": 2}
+    if last == "ServiceClient" and ns in ("nav2_util", "nav2"):
+        return {"api": ns, "kind": "client", "ctx": "srv", "ros": 2}
+    if last == "ServiceServer" and ns in ("nav2_util", "nav2"):
+        return {"api": ns, "kind": "service", "ctx": "srv", "ros": 2}
     return None
 
 

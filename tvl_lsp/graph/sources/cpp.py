@@ -26,6 +26,7 @@ MAX_RECORDS = 4000
 _AS_TYPE = {"as_double": "double", "as_int": "int", "as_bool": "bool", "as_string": "string",
             "as_double_array": "double[]", "as_integer_array": "int[]", "as_bool_array": "bool[]",
             "as_string_array": "string[]", "as_byte_array": "int[]"}
+_CLIENT = re.compile(r"client", re.I)
 _PLACEHOLDER = re.compile(r"^(?:(?:boost|std)::placeholders::|::)?_(\d)$")
 _NODEISH = re.compile(r"^(?:\*?this|n|nh|pnh|nh_?|n_|node|node_|priv_nh_?|private_nh_?|nh_priv_?|nh_private_?|"
                       r"private_node_handle_?|node_handle_?|nodehandle_?|.*_nh_?|nh_.*|.*node_handle.*|.*_node_?|"
@@ -202,7 +203,7 @@ class _Walker:
         key = f"{cls}::{short}" if cls else short
         self.f["funcs"].setdefault(key, []).append([[p[1], p[0]] for p in params])
         saved = self.fn
-        self.fn = _Fn(short, cls, {p[0]: (i, p[1]) for i, p in enumerate(params) if p[0]})
+        self.fn = _Fn(short, cls, {p[0]: (i, p[1], p[2]) for i, p in enumerate(params) if p[0]})
         for ch in n.named_children:
             if ch.type == "field_initializer_list":
                 self._initializers(ch, cls)
@@ -223,7 +224,8 @@ class _Walker:
             typ = p.child_by_field_name("type")
             d = p.child_by_field_name("declarator")
             tt = self._decl_type(p, typ, d)
-            out.append((_declarator_name(self, d) or "", tt))
+            dv = p.child_by_field_name("default_value")
+            out.append((_declarator_name(self, d) or "", tt, self.ir(dv) if dv is not None else None))
         return out
 
     def _decl_type(self, owner, typ, d) -> str:
@@ -514,7 +516,8 @@ class _Walker:
                 return loc["ir"] if loc["ir"] is not None else ["dyn", name]
             p = fn.params.get(name)
             if p is not None:
-                return ["arg", fn.cls, fn.name, p[0], name, p[1]]
+                return ["arg", fn.cls, fn.name, p[0], name, p[1], p[2]] if p[2] is not None else \
+                    ["arg", fn.cls, fn.name, p[0], name, p[1]]
         return ["id", name, self.cur_cls, list(self.ns)]
 
     def call_ir(self, n, depth: int):
@@ -561,7 +564,8 @@ class _Walker:
             return False
         if a.type == "call_expression":
             return bool(re.search(r"(shared_from_this|get_node_\w+_interface|getNodeHandle|getPrivateNodeHandle|"
-                                  r"getMTNodeHandle|getMTPrivateNodeHandle|NodeHandle|lock|get_node|node)\s*\(", t))
+                                  r"getMTNodeHandle|getMTPrivateNodeHandle|NodeHandle|lock|get_node|node)\s*\(", t)
+                        or re.search(r"pointer_cast\s*<[^>]*Node[^>]*>|\b(node|parent|nh)\w*\s*(\.|->)\s*lock\s*\(", t, re.I))
         if a.type in ("pointer_expression", "field_expression", "identifier", "qualified_identifier", "type_identifier"):
             name = t.lstrip("*&").split("->")[-1].split(".")[-1]
             fn = self.fn
@@ -583,6 +587,8 @@ class _Walker:
         recv, m, targs, prefix = _callee(self, fnode)
         if m in _AS_TYPE and recv is not None and recv.type == "call_expression":
             self.hints[recv.start_byte] = _AS_TYPE[m]
+        if m in apis.PARAM_METHODS and recv is not None and _CLIENT.search(self.t(recv)):
+            m = None  # a parameters client: another node's parameters
         if m in ("set_parameter", "set_parameters", "set_parameters_atomically") and argn and \
                 len(self.f["calls"]) < MAX_CALLS:
             self._set_parameters(n, fnode, argn[0])
@@ -621,6 +627,8 @@ class _Walker:
         if spec.get("skip_nodes"):
             while name_i < len(argn) - 1 and self.nodeish(argn[name_i]):
                 name_i += 1
+            if spec.get("type_after_name"):
+                spec = dict(spec, type_arg=name_i + 1)
         if name_i >= len(argn):
             return
         name_node = argn[name_i]
@@ -645,10 +653,11 @@ class _Walker:
         vi = spec.get("value")
         if vi is not None and vi < len(argn):
             call["vtype"] = self.value_type(argn[vi])
-        if m in apis.DEFAULT_LAST and len(argn) > name_i + 1:
-            call["default"] = self.t(argn[-1])[:120]
+        if m in apis.DEFAULT_AT and len(argn) > name_i + 1:
+            di = len(argn) - 1 if apis.DEFAULT_AT[m] == "last" else name_i + 1
+            call["default"] = self.t(argn[di])[:120]
             if not call.get("vtype"):
-                call["vtype"] = self.value_type(argn[-1])
+                call["vtype"] = self.value_type(argn[di])
         if spec["kind"].startswith("param") and not call.get("vtype") and n.start_byte in self.hints:
             call["vtype"] = self.hints[n.start_byte]
         if spec.get("fixed"):
@@ -705,7 +714,7 @@ class _Walker:
                 loc = fn.locals[name]
                 return {"ir": loc["ir"], "t": loc["t"], "text": text}
             if fn is not None and name in fn.params:
-                idx, ty = fn.params[name]
+                idx, ty = fn.params[name][:2]
                 return {"ir": ["arg", fn.cls, fn.name, idx, name, ty], "t": ty, "text": text}
             return {"ir": ["id", name, self.cur_cls, list(self.ns)], "t": t, "text": text}
         if recv.type == "field_expression":

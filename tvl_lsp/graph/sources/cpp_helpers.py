@@ -18,6 +18,8 @@ def _callee(w, fnode):
         field = fnode.child_by_field_name("field")
         if field is None:
             return recv, None, [], None
+        if field.type == "dependent_name" and field.named_children:  # node->template create_client<T>(...)
+            field = field.named_children[0]
         if field.type == "template_method":
             name = field.child_by_field_name("name")
             ta = field.child_by_field_name("arguments")

@@ -11,7 +11,7 @@ from typing import Callable, Iterable, Optional
 
 from . import apis
 from .model import Endpoint
-from .types import CppScope, python_type, split_template, strip_cpp
+from .types import CppScope, python_type, split_template
 from .values import Resolver, Value, agree, finish, join_values, text_of
 
 MAX_ENDPOINTS = 20000
@@ -95,9 +95,14 @@ def _resolver_cpp(ix: _CppIndex) -> Resolver:
     def member(cls: str, name: str) -> Optional[list]:
         return ix.members.get(cls, {}).get(name)
 
-    def arg(cls: Optional[str], fn: str, idx: int) -> Optional[list]:
+    def arg(cls: Optional[str], fn: str, idx: int, name: str = "", default=None) -> Optional[list]:
         calls = ix.ctors.get(fn, []) if cls and fn == cls else ix.fcalls.get(fn, [])
-        out = [c[idx] for c in calls if idx < len(c)]
+        out = []
+        for c in calls:
+            if idx < len(c):
+                out.append(c[idx])
+            elif default is not None:
+                out.append(default)
         return out or None
 
     return Resolver(const, member, arg, ix.member_type)
@@ -268,6 +273,7 @@ def link_cpp(package: str, executable: str, ros: int, files: list[tuple[str, dic
             if only_class and rec.get("cls") and rec["cls"] != only_class:
                 continue
             out.extend(_construction(ix, r, scope, make, path, rec, rec["t"], ros))
+    param_types(out)
     return out
 
 
@@ -307,18 +313,21 @@ def _cpp_call(ix: _CppIndex, r: Resolver, scope, make, path: str, call: dict, ro
     rt = rtype or ""
     is_it = "ImageTransport" in rt or "image_transport" in rt
     is_mf = "message_filters" in rt or "SubscriberFilter" in rt
+    is_pct = "PointCloudTransport" in rt or "point_cloud_transport" in rt
     m = call["m"]
     if m in ("advertise", "subscribe") and is_it:
         api = "image_transport"
     if m == "subscribe" and is_mf:
         api = "message_filters"
+    if m in ("advertise", "subscribe") and is_pct:
+        api = "point_cloud_transport"
     if api == "roscpp" and m in ("advertise", "subscribe", "param") and rt and not _nh_like(rt) and not is_it \
-            and not is_mf:
+            and not is_mf and not is_pct:
         return []  # a method of that name on something that is no node handle
     if api == "rclcpp" and kind.startswith("param") and rt and re.search(r"ParameterClient|ParametersClient", rt):
         return []
     ros_v = call.get("ros", 0)
-    if api in ("image_transport", "message_filters"):
+    if api in ("image_transport", "message_filters", "point_cloud_transport"):
         ros_v = 0
     name = r.evaluate(call["name"])
     if ros_v == 1 or (ros_v == 0 and ros == 1) or api in ("roscpp", "image_transport") and ros != 2:
@@ -336,6 +345,8 @@ def _cpp_call(ix: _CppIndex, r: Resolver, scope, make, path: str, call: dict, ro
         typ = sc.normalise(texpr, ctx)
     elif call.get("fixed") or is_it or api == "image_transport":
         typ = call.get("fixed") or "sensor_msgs/Image"
+    elif api == "point_cloud_transport":
+        typ = "sensor_msgs/PointCloud2"
     elif is_mf:
         base, ta = split_template(rt)
         if ta:
@@ -383,20 +394,33 @@ def _construction(ix: _CppIndex, r: Resolver, scope, make, path: str, rec: dict,
     cls = rec.get("cls")
     ns = rec.get("ns", [])
     sc = scope(cls, ns)
-    full = sc.expand(type_text) if "<" not in type_text.split("::")[-1] else type_text
-    base, targs = split_template(full)
-    if not targs:
-        # an alias of a template instance: expand it and look again
-        exp = ix.alias_lookup(cls, list(ns))(strip_cpp(type_text).split("::")[-1])
-        if exp:
-            base, targs = split_template(exp)
-    spec = apis.class_spec(strip_cpp(base) if "<" not in base else base)
+    base, targs = split_template(" ".join(type_text.split()))
+    look = ix.alias_lookup(cls, list(ns))
+    for _ in range(4):
+        if targs:
+            break
+        # an alias of a template instance (using ActionServer = nav2_util::SimpleActionServer<A>)
+        b = base.replace(" ", "").lstrip(":")
+        exp = look(b) or look(b.split("::")[-1])
+        if not exp:
+            break
+        base, targs = split_template(" ".join(exp.split()))
+    spec = apis.class_spec(base.replace(" ", "").rstrip("*&"))
     if spec is None:
         return []
     args = rec.get("args") or []
     flags = rec.get("nodeish") or [False] * len(args)
     idx = None
+    if spec["api"] == "message_filters":
+        # message_filters::Subscriber<T>(nh / node, topic, queue / qos): the topic is second
+        if len(args) < 2:
+            return []
+        args_from = 1
+    else:
+        args_from = 0
     for i, a in enumerate(args):
+        if i < args_from:
+            continue
         if i < len(flags) and flags[i]:
             continue
         if _is_nh_expr(ix, a) or (a and a[0] == "dyn" and a[1] in ("this", "true", "false")):
@@ -446,9 +470,9 @@ class _PyIndex:
                 for m, irs in mem.items():
                     d.setdefault(m, []).extend(irs)
             for c in f.get("ctors", []):
-                self.ctors.setdefault(c["c"], []).append(c["args"])
+                self.ctors.setdefault(c["c"], []).append((c["args"], c.get("kw") or {}))
             for c in f.get("fcalls", []):
-                self.fcalls.setdefault(c["f"], []).append(c["args"])
+                self.fcalls.setdefault(c["f"], []).append((c["args"], c.get("kw") or {}))
             for c, b in f.get("bases", {}).items():
                 self.bases.setdefault(c, b)
 
@@ -482,12 +506,18 @@ def link_py(package: str, executable: str, ros: int, files: list[tuple[str, dict
                 return v
         return None
 
-    def arg(cls: Optional[str], fn: str, idx: int) -> Optional[list]:
+    def arg(cls: Optional[str], fn: str, idx: int, name: str = "", default=None) -> Optional[list]:
         calls = ix.ctors.get(cls, []) if cls and fn == "__init__" else ix.fcalls.get(fn, [])
         out = []
-        for c in calls:
-            if isinstance(idx, int) and idx < len(c):
-                out.append(c[idx])
+        for pos, kw in calls:
+            if name and name in kw:
+                out.append(kw[name])
+            elif isinstance(idx, int) and idx < len(pos):
+                out.append(pos[idx])
+            elif default is not None:
+                out.append(default)
+            else:
+                return None  # a call we cannot follow (*args, **kwargs): unknown
         return out or None
 
     r = Resolver(const, member, arg)
@@ -514,6 +544,7 @@ def link_py(package: str, executable: str, ros: int, files: list[tuple[str, dict
             if npos and npos[0] == npos[2]:
                 e.name_line, e.name_col, e.name_end = npos[0], npos[1], npos[3]
             out.append(e)
+    param_types(out)
     return out
 
 
@@ -525,6 +556,8 @@ def _wild_type(cands: list[str], ctx: str, known: dict) -> Optional[str]:
     defined = [t for t in types if t.split("/")[1] in known.get(t.split("/")[0], ())]
     if len(defined) == 1:
         return defined[0]
+    # a package of the workspace that does not define it is not where it comes from
+    types = [t for t in types if t.split("/")[0] not in known]
     if len(types) == 1:
         return types[0]
     return None
@@ -541,6 +574,20 @@ def _py_type_of(r: Resolver, e, ctx: str) -> Optional[str]:
         return None
     types = {_py_type_of(r, x, ctx) for x in got[:8]}
     return types.pop() if len(types) == 1 else None
+
+
+def param_types(eps: list[Endpoint]) -> None:
+    """A parameter read, written or deleted without a type of its own has the type its program
+    declares or reads it with elsewhere (one type only)."""
+    known: dict[str, set] = {}
+    for e in eps:
+        if e.kind.startswith("param") and e.type and not e.dynamic:
+            known.setdefault(e.name, set()).add(e.type)
+    for e in eps:
+        if e.kind.startswith("param") and e.type is None and not e.dynamic:
+            ts = known.get(e.name)
+            if ts and len(ts) == 1:
+                e.type = next(iter(ts))
 
 
 def dedupe(endpoints: Iterable[Endpoint]) -> list[Endpoint]:

@@ -162,11 +162,14 @@ class _Walker:
         if plist is not None:
             for k, p in enumerate(plist.named_children):
                 pname = None
+                default = None
                 if p.type == "identifier":
                     pname = self.t(p)
                 elif p.type in ("default_parameter", "typed_default_parameter"):
                     nn = p.child_by_field_name("name")
                     pname = self.t(nn) if nn is not None else None
+                    dv = p.child_by_field_name("value")
+                    default = self.ir(dv) if dv is not None else None
                 elif p.type == "typed_parameter":
                     nn = next((c for c in p.named_children if c.type == "identifier"), None)
                     pname = self.t(nn) if nn is not None else None
@@ -174,7 +177,7 @@ class _Walker:
                     continue
                 if in_class and k == 0 and pname in ("self", "cls"):
                     continue
-                params[pname] = (idx, "")
+                params[pname] = (idx, "", default)
                 idx += 1
         saved = self.fn
         self.fn = _Fn(fname, self.cur_cls if in_class or (saved and saved.cls) else None, params)
@@ -219,6 +222,8 @@ class _Walker:
         self.walk(right)
 
     def assign(self, left, ir) -> None:
+        if ir and ir[0] == "param":
+            ir = ir[:3] + [self.t(left).replace("self.", "")[:80]]
         if left.type == "identifier":
             name = self.t(left)
             fn = self.fn
@@ -329,7 +334,7 @@ class _Walker:
                 return loc["ir"]
             p = fn.params.get(name)
             if p is not None:
-                return ["arg", fn.cls, fn.name, p[0], name, ""]
+                return ["arg", fn.cls, fn.name, p[0], name, "", p[2]]
         if name in self.imports and "." in self.imports[name] and not self.imports[name].startswith("."):
             return ["id", self.imports[name], self.cur_cls, []]
         return ["id", name, self.cur_cls, []]
@@ -389,25 +394,29 @@ class _Walker:
         if spec is None and fnode.type == "attribute" and last in apis.PY_METHODS:
             obj = fnode.child_by_field_name("object")
             head = self.t(obj).split(".")[0] if obj is not None else ""
-            if head not in ("rospy",):
+            if head not in ("rospy",) and not (last.endswith(("parameter", "parameter_or", "parameters"))
+                                                and re.search(r"client", self.t(obj), re.I)):
                 spec = apis.PY_METHODS[last]
         if spec is not None and len(self.f["calls"]) < MAX_CALLS:
             self.call_site(n, fnode, spec, pos, kw)
-        elif last in ("declare_parameters",) and fnode.type == "attribute":
+        elif last in ("declare_parameters",) and fnode.type == "attribute" and \
+                not re.search(r"client", self.t(fnode.child_by_field_name("object") or fnode), re.I):
             self.declare_parameters(n, fnode, pos, kw)
-        elif last == "get_parameters" and fnode.type == "attribute" and pos and pos[0].type == "list":
+        elif last == "get_parameters" and fnode.type == "attribute" and pos and pos[0].type == "list" and \
+                not re.search(r"client", self.t(fnode.child_by_field_name("object") or fnode), re.I):
             for item in pos[0].named_children[:64]:
                 self.call_site(n, fnode, {"api": "rclpy", "kind": "param_read", "name": (0, "name"), "ros": 2},
                                [item], {})
-        # records for resolving arguments across modules
-        if d is not None and len(self.f["ctors"]) + len(self.f["fcalls"]) < MAX_RECORDS and (pos or kw):
+        # records for resolving arguments across modules (constructions with none too: the
+        # parameters' defaults are then their values)
+        if d is not None and len(self.f["ctors"]) + len(self.f["fcalls"]) < MAX_RECORDS:
+            short = d.split(".")[-1]
             irs = [self.ir(p) for p in pos]
-            if any(x[0] != "dyn" for x in irs):
-                short = d.split(".")[-1]
-                if short[:1].isupper():
-                    self.f["ctors"].append({"c": short, "args": irs})
-                else:
-                    self.f["fcalls"].append({"f": short, "args": irs})
+            kws = {k: self.ir(v) for k, v in kw.items()}
+            if short[:1].isupper() and not (short.isupper() and len(short) > 1):
+                self.f["ctors"].append({"c": short, "args": irs, "kw": kws})
+            elif (pos or kw) and any(x[0] != "dyn" for x in irs + list(kws.values())):
+                self.f["fcalls"].append({"f": short, "args": irs, "kw": kws})
         if fnode.type == "attribute":
             obj = fnode.child_by_field_name("object")
             if obj is not None:

@@ -172,6 +172,8 @@ class Resolver:
         if k == "mem":
             return self.member(e[1], e[2]) if e[1] else None
         if k == "arg":
+            if len(e) > 6:
+                return self.arg(e[1], e[2], e[3], e[4], e[6])
             return self.arg(e[1], e[2], e[3])
         return None
 
