@@ -234,7 +234,9 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
             else:
                 pname = e.name
             used.add(N.resolve(pname, inst.name))
-            cases = ([(TRUE, N.resolve(pname, inst.name), None)] if e.dynamic or rkind == "parameter"
+            # a dynamic name cannot be known to match a remap; ROS 2 remaps topics and services only
+            cases = ([(TRUE, N.resolve(pname, inst.name), None)]
+                     if e.dynamic or (rkind == "parameter" and inst.ros2)
                      else N.remap_cases(pname, inst.name, inst.remaps))
             for c, rname, origin in cases:
                 lc = conj([inst.condition, c])
