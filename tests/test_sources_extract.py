@@ -31,7 +31,7 @@ def _eps(ex, pkg, exe):
 
 
 def test_packages_and_ros_versions(ex):
-    assert {(p.name, p.ros) for p in ex.packages} == {("ros1_cpp", 1), ("ros1_py", 1), ("ros2_cpp", 2),
+    assert {(p.name, p.ros) for p in ex.packages} == {("ros1_cpp", 1), ("ros1_py", 1), ("ros2_cpp", 2), ("robot_bringup", 1),
                                                       ("ros2_py", 2)}
 
 

@@ -13,6 +13,7 @@ resolves the names of each launched node against its namespace and remaps.
 
 from __future__ import annotations
 
+import copy
 import os
 from typing import Mapping, Optional
 
@@ -26,6 +27,8 @@ __all__ = ["extract", "Extraction", "Executable", "Endpoint", "Package", "KINDS"
            "source_language"]
 
 _API_CLASSES = ("ActionServer", "ActionClient", "Subscriber", "SubscriberFilter", "ServiceClient")
+# program -> (the facts it was linked from, its endpoints): linking again only when a file changed
+_LINK_MEMO: dict[tuple, tuple[list, list]] = {}
 
 
 def source_language(path: str) -> Optional[str]:
@@ -53,11 +56,13 @@ def extract(paths, texts: Optional[Mapping[str, str]] = None, disk: bool = True)
     pkgs = find_packages([os.path.abspath(p) for p in paths])
     pfs: list[PackageFiles] = []
     known: dict[str, set] = {}
+    cmake_edited = any(os.path.basename(k) in ("CMakeLists.txt", "setup.py", "setup.cfg") for k in texts)
     for pkg in pkgs:
-        pf = package_files(pkg, read)
+        pf = package_files(pkg, read, memo=not cmake_edited)
         pfs.append(pf)
         known[pkg.name] = pf.interfaces
         ex.notes += pf.notes
+    known_sig = hash(tuple(sorted((k, tuple(sorted(v))) for k, v in known.items())))
     facts_memo: dict[str, Optional[dict]] = {}
 
     def facts(path: str, lang: str) -> Optional[dict]:
@@ -97,12 +102,20 @@ def extract(paths, texts: Optional[Mapping[str, str]] = None, disk: bool = True)
             lang = prog.language
             files = [(f, facts(f, lang)) for f in prog.files]
             files = [(f, x) for f, x in files if x]
-            if lang == "cpp":
-                eps = link_cpp(pkg.name, prog.name, ros, files, known, prog.only_class)
+            key = (pkg.name, prog.name, prog.kind, prog.only_class, ros, known_sig, tuple(f for f, _ in files))
+            hit = _LINK_MEMO.get(key)
+            if hit is not None and len(hit[0]) == len(files) and all(a is b for a, (_, b) in zip(hit[0], files)):
+                eps = [copy.copy(e) for e in hit[1]]
             else:
-                eps = link_py(pkg.name, prog.name, ros, files, known)
-            eps = dedupe(eps)
-            eps.sort(key=lambda e: (e.file, e.line, e.col, e.kind, e.name))
+                if lang == "cpp":
+                    eps = link_cpp(pkg.name, prog.name, ros, files, known, prog.only_class)
+                else:
+                    eps = link_py(pkg.name, prog.name, ros, files, known)
+                eps = dedupe(eps)
+                eps.sort(key=lambda e: (e.file, e.line, e.col, e.kind, e.name))
+                if len(_LINK_MEMO) > 5000:
+                    _LINK_MEMO.clear()
+                _LINK_MEMO[key] = ([x for _, x in files], [copy.copy(e) for e in eps])
             ex.executables.append(Executable(pkg.name, prog.name, prog.kind, lang, list(prog.files), eps,
                                              list(prog.aliases)))
     ex.files_read = stats.read

@@ -131,8 +131,9 @@ def _is_python_script(path: str, name: str, mode: int) -> bool:
     return bool(head) and head.startswith("#!") and "python" in head.split("\n", 1)[0]
 
 
-def package_files(pkg: Package, read: Read) -> PackageFiles:
-    """The sources of a package (bounded), its interfaces and its CMake targets."""
+def package_files(pkg: Package, read: Read, memo: bool = True) -> PackageFiles:
+    """The sources of a package (bounded), its interfaces and its CMake targets (``memo``: reuse
+    what its unchanged CMake files said last time)."""
     pf = PackageFiles(pkg)
     n = 0
     for dirpath, dirnames, filenames in os.walk(pkg.folder):
@@ -165,10 +166,37 @@ def package_files(pkg: Package, read: Read) -> PackageFiles:
                 pf.notes.append(f"{pkg.name}: more than {MAX_FILES_PER_PACKAGE} sources; the rest is not read")
                 return pf
     if os.path.isfile(os.path.join(pkg.folder, "CMakeLists.txt")):
-        pf.cmake = read_cmake(pkg.folder, read)
+        pf.cmake = _cmake(pkg.folder, read, memo, tuple(pf.cpp) + tuple(pf.python))
         if pf.cmake is not None:
             pf.notes += pf.cmake.notes
     return pf
+
+
+_CMAKE_MEMO: dict[str, tuple[tuple, Optional[CMakeInfo]]] = {}
+
+
+def _stat_sig(files, sources: tuple) -> tuple:
+    out = []
+    for f in files:
+        try:
+            st = os.stat(f)
+            out.append((f, st.st_mtime_ns, st.st_size))
+        except OSError:
+            out.append((f, None, None))
+    return (tuple(out), hash(sources))
+
+
+def _cmake(folder: str, read: Read, memo: bool, sources: tuple) -> Optional[CMakeInfo]:
+    """read_cmake, kept while the CMake files it read and the package's sources are the same."""
+    hit = _CMAKE_MEMO.get(folder) if memo else None
+    if hit is not None and hit[1] is not None and _stat_sig(hit[1].files, sources) == hit[0]:
+        return hit[1]
+    info = read_cmake(folder, read)
+    if memo and info is not None:
+        if len(_CMAKE_MEMO) > 2000:
+            _CMAKE_MEMO.clear()
+        _CMAKE_MEMO[folder] = (_stat_sig(info.files, sources), info)
+    return info
 
 
 # ------------------------------------------------------------------ C++ programs
@@ -189,17 +217,22 @@ def _lib_sources(cm: CMakeInfo, target: str, seen: set) -> list[str]:
 
 
 def include_closure(files: list[str], includes_of: Callable[[str], list[str]], pkg_folder: str,
-                    headers: dict[str, list[str]]) -> list[str]:
-    """``files`` and the package headers they include (transitively, bounded)."""
+                    headers: dict[str, list[str]], memo: Optional[dict] = None) -> list[str]:
+    """``files`` and the package headers they include (transitively, bounded); ``memo`` keeps
+    what each file's includes resolve to."""
     out = list(dict.fromkeys(files))
     seen = set(out)
+    memo = {} if memo is None else memo
     i = 0
     while i < len(out) and len(out) < MAX_CLOSURE:
         f = out[i]
         i += 1
-        for inc in includes_of(f):
-            h = resolve_include(inc, f, pkg_folder, headers)
-            if h is not None and h not in seen:
+        found = memo.get(f)
+        if found is None:
+            found = memo[f] = [h for h in (resolve_include(inc, f, pkg_folder, headers) for inc in includes_of(f))
+                               if h is not None]
+        for h in found:
+            if h not in seen:
                 seen.add(h)
                 out.append(h)
     return out
@@ -234,9 +267,11 @@ def cpp_programs(pf: PackageFiles, includes_of: Callable[[str], list[str]], has_
     covered: set[str] = set()
     cm = pf.cmake
 
+    memo: dict = {}
+
     def closure(srcs: list[str]) -> list[str]:
         srcs = [s for s in srcs if s in existing]
-        return include_closure(srcs, includes_of, pkg.folder, headers)
+        return include_closure(srcs, includes_of, pkg.folder, headers, memo)
 
     if cm is not None:
         linked: set[str] = set()
@@ -407,12 +442,15 @@ def _lit(node, env: dict, depth: int = 0):
     return None
 
 
-def module_file(module: str, roots: list[str]) -> Optional[str]:
+def module_file(module: str, roots: list[str], files: Optional[set] = None) -> Optional[str]:
+    """The file of a module under one of ``roots`` (looked up in ``files`` when given, else on
+    the disk)."""
     rel = module.replace(".", os.sep)
     for r in roots:
         for cand in (os.path.join(r, rel + ".py"), os.path.join(r, rel, "__init__.py")):
-            if os.path.isfile(cand):
-                return os.path.normpath(cand)
+            cand = os.path.normpath(cand)
+            if (cand in files) if files is not None else os.path.isfile(cand):
+                return cand
     return None
 
 
@@ -449,8 +487,8 @@ def import_closure(start: list[str], imports_of: Callable[[str], list], roots: l
             for c in cands:
                 if not c:
                     continue
-                p = module_file(c, rroots)
-                if p is not None and p in allowed and p not in seen:
+                p = module_file(c, rroots, allowed)
+                if p is not None and p not in seen:
                     seen.add(p)
                     out.append(p)
     return out
