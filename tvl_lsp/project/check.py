@@ -242,9 +242,9 @@ def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing, r
     """The computation graph's checks (tvl_lsp.graph.checks) of one pairing: what the nodes use
     comes from the workspace's sources and the node hints."""
     from ..graph import GraphLogic, build_graph, graph_diagnostics
-    from .graph import extraction_for
+    from .sources import extraction_for, node_packages
     try:
-        ex = extraction_for(root, read_file)
+        ex = extraction_for(root, read_file, node_packages(la))
         g = build_graph(la, hints, configs, ex.by_node_type() if ex is not None else None)
         if not any(n.known for n in g.nodes.values()):
             return []
@@ -547,6 +547,7 @@ def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile
         if text is not None and norm(p) == path:
             return text
         return base_read(p)
+    read.texts = getattr(base_read, "texts", None)  # unsaved sources (the graph checks read them)
 
     if text is None:
         text = read(path)

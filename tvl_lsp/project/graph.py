@@ -24,6 +24,7 @@ from typing import Iterable, Mapping, Optional, Sequence
 from ..analysis.engine import ModelAnalysis
 from ..base.diagnostics import Diagnostic
 from ..graph import (Graph, GraphLogic, ProjectHints, build_graph, graph_diagnostics, parse_hints, project)
+from .sources import extraction_for, node_packages
 from .workspace import Workspace, default_read_file, find_workspace_root, load_workspace, norm
 
 
@@ -84,18 +85,6 @@ def free_args_of(text: str, path: str) -> list[str]:
     return free_top_args(text, path)
 
 
-def extraction_for(root: str, read_file=None):
-    """What the sources of the workspace's packages make their programs use (None when the
-    workspace has no package); unsaved editor texts (a reader's ``texts``) are read as they are."""
-    from ..graph.sources import extract
-    texts = getattr(read_file, "texts", None)
-    try:
-        ex = extract([root], texts=texts)
-    except (OSError, ValueError, RecursionError, MemoryError):
-        return None
-    return ex if ex.packages else None
-
-
 def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: Optional[Sequence[str]] = None,
                workspace: Optional[Workspace] = None, model: Optional[str] = None,
                project_files: Optional[Iterable[str]] = None, env: Optional[Mapping[str, str]] = None,
@@ -145,7 +134,7 @@ def load_graph(launch: str, text: Optional[str] = None, read_file=None, roots: O
     free = [n for n in free_args_of(text, path) if enc is None or enc.feature_by_name(n) is None]
     analysis = analyse_any(text, path, workspace_root=root, read_file=read, features=features + free, env=env)
     hints, configs = hints_for(workspace, path, read, project_files)
-    ex = extraction_for(root, read_file) if sources else None
+    ex = extraction_for(root, read_file, node_packages(analysis)) if sources else None
     graph = build_graph(analysis, hints, configs, ex.by_node_type() if ex is not None else None)
     graph.model = model_path
     logic = GraphLogic(enc, features + free, ma)
@@ -227,7 +216,7 @@ def _same_sources(ctx: GraphContext, read) -> bool:
     changed files are parsed again: see tvl_lsp.graph.sources.cache)."""
     if ctx.extraction_root is None:
         return True
-    now = extraction_for(ctx.extraction_root, read)
+    now = extraction_for(ctx.extraction_root, read, node_packages(ctx.analysis))
     if sources_signature(now) == sources_signature(ctx.extraction):
         return True
     return False
@@ -306,3 +295,137 @@ def node_info(path: str, span_start, read_file=None, roots: Optional[Sequence[st
         out.append(NodeInfo(n.name, n.package, n.type, n.known, n.note, uses, hints,
                             bool(ctx.hints) or ctx.extraction is not None, n.extracted))
     return out
+
+
+# ------------------------------------------------------------------ sources (hover on a name in C++ / Python)
+
+MAX_LAUNCHES = 8        # launch files looked at for one hover
+
+
+@dataclass
+class OtherEnd:
+    node: str
+    kind: str                 # its link kind (publish, subscribe, ...)
+    condition: Optional[str]  # None: whenever this node uses the name
+
+
+@dataclass
+class Running:
+    launch: str               # a launch file that starts the program
+    node: str                 # the node's name there
+    condition: Optional[str]  # when it runs (None: in every product)
+    products: Optional[int]   # in how many products
+    total: Optional[int]      # of how many
+    resource: Optional[str]   # the name the call asks for, resolved there (namespace, remaps)
+    others: list[OtherEnd] = field(default_factory=list)
+
+
+@dataclass
+class SourceUse:
+    kind: str
+    name: str
+    type: Optional[str]
+    package: str
+    executables: list[str]
+    dynamic: bool
+    span: tuple               # (line, col, end line, end col), 0-based: the name or the call
+    running: list[Running] = field(default_factory=list)
+    note: Optional[str] = None
+
+
+_OPPOSITE = {"publish": ("subscribe",), "subscribe": ("publish",), "service": ("client",), "client": ("service",),
+             "action_server": ("action_client",), "action_client": ("action_server",), "read": ("write",),
+             "write": ("read",)}
+
+
+def source_info(path: str, line: int, col: int, read_file=None, roots: Optional[Sequence[str]] = None
+                ) -> Optional[SourceUse]:
+    """The call of a C++ / Python source at (line, col) (0-based, code points) that makes a node
+    use a topic, service, action or parameter; for the hover: in which products of the
+    workspace's launch files its program runs, and who is on the other end of the name there."""
+    from ..graph.sources import LINK_OF_KIND, extract
+    from ..launch.ros2.ament import package_of
+    path = norm(path)
+    read = read_file or default_read_file
+    pkg = package_of(path)
+    if pkg is None:
+        return None
+    root = _root_for(path, roots)
+    ex = extract([root], texts=getattr(read_file, "texts", None), only={pkg.name})
+    hit = None
+    exes: list[str] = []
+    for x in ex.executables:
+        for e in x.endpoints:
+            if norm(e.file) != path:
+                continue
+            if e.name_line is not None and e.name_line - 1 == line and e.name_col <= col <= e.name_end:
+                span = (line, e.name_col, line, e.name_end)
+            elif (e.line - 1, e.col) <= (line, col) <= (e.end_line - 1, e.end_col):
+                span = (e.line - 1, e.col, e.end_line - 1, e.end_col)
+            else:
+                continue
+            if hit is None or (hit[0].line, hit[0].col) == (e.line, e.col) and hit[0].kind == e.kind:
+                hit = (e, span)
+                if x.kind not in ("library", "source", "test") or not exes:
+                    exes.append(x.name)
+                for a in x.aliases:
+                    exes.append(a)
+    if hit is None:
+        return None
+    e, span = hit
+    use = SourceUse(e.kind, e.name, e.type, e.package, list(dict.fromkeys(exes)), e.dynamic, span)
+    link_kind = LINK_OF_KIND.get(e.kind)
+    ws = load_workspace([root], read)
+    launches = []
+    for lf in ws.files.launches:
+        text = read(lf)
+        if not text or e.package not in text:
+            continue
+        pairings, _ = ws.pair(lf, text)
+        named = any(norm(x) == norm(lf) for pf in ws.projects for c in pf.configurations for x, _ in c.launches)
+        if named or any(p.model is not None for p in pairings):
+            launches.append(lf)
+    for lf in launches[:MAX_LAUNCHES]:
+        try:
+            ctx = cached_graph(lf, read_file, roots)
+        except Exception:  # a launch file or model we cannot read now: others still answer
+            continue
+        _running_in(ctx, use, e, link_kind)
+    if len(launches) > MAX_LAUNCHES:
+        use.note = f"{len(launches) - MAX_LAUNCHES} more launch file(s) start programs of {e.package}"
+    return use
+
+
+def _running_in(ctx: GraphContext, use: SourceUse, e, link_kind: Optional[str]) -> None:
+    from ..base import formula as fm
+    from ..graph.project import _simplifier, graph_variables
+    g = ctx.graph
+    nodes = [n for n in g.nodes.values() if n.package == use.package and n.type in use.executables]
+    if not nodes:
+        return
+    o = ctx.logic.oracle(graph_variables(g))
+    top = o.term(fm.TRUE)
+    simp = _simplifier(o, top)
+    total = ctx.logic.count(fm.TRUE)
+    for n in nodes:
+        cond = n.condition if n.condition is not None else fm.TRUE
+        shown = simp(cond)
+        run = Running(ctx.launch, n.name, None if shown == fm.TRUE else str(shown),
+                      ctx.logic.count(cond), total, None)
+        for ln in g.links_from(n.id):
+            if ln.kind != link_kind:
+                continue
+            if not any(v.source is not None and norm(v.source.path) == norm(e.file)
+                       and v.source.span.start.line == e.line - 1 for v in ln.via):
+                continue
+            res = g.resources[ln.resource]
+            run.resource = res.name
+            node_simp = _simplifier(o, o.term(ln.condition or fm.TRUE))
+            for other in g.links_of(res.id, _OPPOSITE.get(link_kind, ())):
+                both = fm.conj([ln.condition or fm.TRUE, other.condition or fm.TRUE])
+                if o.empty(o.term(both)):
+                    continue
+                c = node_simp(other.condition or fm.TRUE)
+                run.others.append(OtherEnd(g.nodes[other.node].name, other.kind, None if c == fm.TRUE else str(c)))
+            break
+        use.running.append(run)

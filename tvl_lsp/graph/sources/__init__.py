@@ -19,7 +19,8 @@ from typing import Mapping, Optional
 
 from ...base.files import read_text_or_none
 from . import cache
-from .discover import PackageFiles, Program, cpp_programs, find_packages, package_files, python_programs
+from .discover import (PackageFiles, Program, cpp_programs, find_packages, interfaces_of, package_files,
+                       python_programs)
 from .link import dedupe, link_cpp, link_py
 from .model import KINDS, LINK_OF_KIND, RESOURCE_OF, Endpoint, Executable, Extraction, Package
 
@@ -41,8 +42,10 @@ def source_language(path: str) -> Optional[str]:
     return None
 
 
-def extract(paths, texts: Optional[Mapping[str, str]] = None, disk: bool = True) -> Extraction:
-    """Every package under (or around) ``paths``: its programs and their endpoints."""
+def extract(paths, texts: Optional[Mapping[str, str]] = None, disk: bool = True,
+            only: Optional[set] = None) -> Extraction:
+    """Every package under (or around) ``paths``: its programs and their endpoints (``only``:
+    just the packages of these names; the others still say which messages they define)."""
     texts = {os.path.normpath(os.path.abspath(k)): v for k, v in (texts or {}).items()}
 
     def read(p: str) -> Optional[str]:
@@ -58,6 +61,9 @@ def extract(paths, texts: Optional[Mapping[str, str]] = None, disk: bool = True)
     known: dict[str, set] = {}
     cmake_edited = any(os.path.basename(k) in ("CMakeLists.txt", "setup.py", "setup.cfg") for k in texts)
     for pkg in pkgs:
+        if only is not None and pkg.name not in only:
+            known[pkg.name] = interfaces_of(pkg.folder)
+            continue
         pf = package_files(pkg, read, memo=not cmake_edited)
         pfs.append(pf)
         known[pkg.name] = pf.interfaces

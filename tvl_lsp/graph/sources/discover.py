@@ -199,6 +199,18 @@ def _cmake(folder: str, read: Read, memo: bool, sources: tuple) -> Optional[CMak
     return info
 
 
+def interfaces_of(folder: str) -> set:
+    """The message, service and action names a package defines (its msg/, srv/, action/)."""
+    out = set()
+    for sub in ("msg", "srv", "action"):
+        try:
+            names = os.listdir(os.path.join(folder, sub))
+        except OSError:
+            continue
+        out.update(n.rsplit(".", 1)[0] for n in names if n.endswith((".msg", ".srv", ".action")))
+    return out
+
+
 # ------------------------------------------------------------------ C++ programs
 
 def _lib_sources(cm: CMakeInfo, target: str, seen: set) -> list[str]:
