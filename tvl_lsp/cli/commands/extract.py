@@ -18,6 +18,7 @@ import json
 import os
 import sys
 
+ALWAYS = ("package", "executable", "kind", "name", "type", "file", "line", "dynamic")
 FIELDS = ("package", "executable", "kind", "name", "type", "file", "line", "col", "end_line", "end_col", "dynamic",
           "expression", "api", "ros", "default", "type_expression", "executable_kind")
 
@@ -28,7 +29,7 @@ def rows(ex) -> list[dict]:
         for e in x.endpoints:
             d = e.row()
             d["executable_kind"] = x.kind
-            out.append({k: d[k] for k in FIELDS if k in d})
+            out.append({k: d.get(k) for k in FIELDS if k in d or k in ALWAYS})
     out.sort(key=lambda r: (r["package"], r["executable"], r["file"], r["line"], r["col"], r["kind"], r["name"]))
     return out
 
