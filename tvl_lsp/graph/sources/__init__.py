@@ -108,13 +108,14 @@ def extract(paths, texts: Optional[Mapping[str, str]] = None, disk: bool = True,
             lang = prog.language
             files = [(f, facts(f, lang)) for f in prog.files]
             files = [(f, x) for f, x in files if x]
-            key = (pkg.name, prog.name, prog.kind, prog.only_class, ros, known_sig, tuple(f for f, _ in files))
+            key = (pkg.name, prog.name, prog.kind, prog.only_class, prog.skip_classes, ros, known_sig,
+                   tuple(f for f, _ in files))
             hit = _LINK_MEMO.get(key)
             if hit is not None and len(hit[0]) == len(files) and all(a is b for a, (_, b) in zip(hit[0], files)):
                 eps = [copy.copy(e) for e in hit[1]]
             else:
                 if lang == "cpp":
-                    eps = link_cpp(pkg.name, prog.name, ros, files, known, prog.only_class)
+                    eps = link_cpp(pkg.name, prog.name, ros, files, known, prog.only_class, prog.skip_classes)
                 else:
                     eps = link_py(pkg.name, prog.name, ros, files, known)
                 eps = dedupe(eps)

@@ -529,6 +529,8 @@ class _Walker:
             return self.ir(argn[0], depth + 1) if argn else ["s", ""]
         if m in ("getName", "get_fully_qualified_name") and (prefix in ("ros::this_node", "") or recv is None):
             return ["node"]
+        if m in ("resolve_topic_or_service_name", "resolveName", "resolve_name", "remap_name") and argn:
+            return self.ir(argn[0], depth + 1)  # the name as the node resolves it: the same graph name
         if m in ("getNodeHandle", "getMTNodeHandle", "get_node_handle"):
             return ["nh", ["s", ""]]
         if m in ("getPrivateNodeHandle", "getMTPrivateNodeHandle"):

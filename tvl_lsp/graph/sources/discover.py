@@ -51,6 +51,7 @@ class Program:
     files: list[str] = field(default_factory=list)
     only_class: Optional[str] = None   # a component in a library of several: its class
     aliases: list[str] = field(default_factory=list)
+    skip_classes: frozenset = frozenset()   # a library's rest: the calls of these classes are the components'
 
 
 @dataclass
@@ -311,6 +312,13 @@ def cpp_programs(pf: PackageFiles, includes_of: Callable[[str], list[str]], has_
                 out.append(Program(exes[0], "executable", "cpp", files, only, [cls] + exes[1:]))
             else:
                 out.append(Program(cls, "component", "cpp", files, only))
+        for lib, classes in sorted(comp_libs.items()):
+            if len(classes) > 1 and lib in cm.targets:
+                # the calls of the library's other classes (a component CMake does not register,
+                # a helper class): listed under the library
+                files = closure(_lib_sources(cm, lib, set()))
+                out.append(Program(lib, "library", "cpp", files, None, [],
+                                   frozenset(c.split("::")[-1] for c in classes)))
         for t in cm.targets.values():
             if t.kind == "library" and t.name not in linked:
                 files = closure(_lib_sources(cm, t.name, set()))

@@ -235,7 +235,8 @@ def _param_type_cpp(ix: _CppIndex, call: dict, scope_cls: Optional[str]) -> Opti
 
 
 def link_cpp(package: str, executable: str, ros: int, files: list[tuple[str, dict]],
-             known: dict, only_class: Optional[str] = None) -> list[Endpoint]:
+             known: dict, only_class: Optional[str] = None, skip_classes: frozenset = frozenset()
+             ) -> list[Endpoint]:
     """The endpoints of one C++ program from the facts of its files."""
     ix = _CppIndex(files)
     r = _resolver_cpp(ix)
@@ -259,18 +260,18 @@ def link_cpp(package: str, executable: str, ros: int, files: list[tuple[str, dic
 
     for path, f in files:
         for call in f.get("calls", []):
-            if only_class and call.get("cls") and call["cls"] != only_class:
+            if only_class and call.get("cls") and call["cls"] != only_class or call.get("cls") in skip_classes:
                 continue
             if len(out) >= MAX_ENDPOINTS:
                 break
             out.extend(_cpp_call(ix, r, scope, make, path, call, ros))
         for rec in f.get("minits", []):
             mt = ix.member_type(rec["cls"], rec["m"])
-            if not mt or (only_class and rec["cls"] != only_class):
+            if not mt or (only_class and rec["cls"] != only_class) or rec["cls"] in skip_classes:
                 continue
             out.extend(_construction(ix, r, scope, make, path, rec, mt, ros))
         for rec in f.get("ctors", []):
-            if only_class and rec.get("cls") and rec["cls"] != only_class:
+            if only_class and rec.get("cls") and rec["cls"] != only_class or rec.get("cls") in skip_classes:
                 continue
             out.extend(_construction(ix, r, scope, make, path, rec, rec["t"], ros))
     param_types(out)

@@ -435,7 +435,7 @@ class _Walker:
         type_node = _pick(pos, kw, spec.get("type"))
         if spec.get("mf"):
             # message_filters.Subscriber: ROS 1 (topic, type), ROS 2 (node, type, topic)
-            if pos and pos[0].type in ("string", "concatenated_string", "binary_operator"):
+            if len(pos) == 2 or pos and pos[0].type in ("string", "concatenated_string", "binary_operator"):
                 name_node, type_node = pos[0], (pos[1] if len(pos) > 1 else kw.get("msg_type"))
             else:
                 type_node = pos[1] if len(pos) > 1 else kw.get("msg_type")

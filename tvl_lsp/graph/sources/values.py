@@ -89,19 +89,27 @@ def join_values(ns: Value, name: Value) -> Value:
 
 def finish(v: Value) -> Value:
     """The name as ROS would canonicalise it."""
+    if v.text.startswith(NODE):
+        v = node_private(v)
     c = canonical(v.text)
     if c == v.text:
         return v
     return Value(c, v.dynamic, v.exprs, v.default, v.node)
 
 
+NODE = "\0node\0"   # the node's own name, in a value being built
+
+
 def node_private(v: Value) -> Value:
-    """``getName() + "/x"``: a name under the node's own, i.e. ``~x``."""
+    """``getName() + "/x"``: a name under the node's own, i.e. ``~x``; ``getName() + "_x"`` is a
+    name beside it, known only when the node is launched (dynamic)."""
     t = v.text
-    if v.node:
-        rest = t.lstrip("/")
-        return Value("~" + rest, v.dynamic, v.exprs, v.default)
-    return v
+    if not t.startswith(NODE):
+        return v
+    rest = t[len(NODE):]
+    if rest.startswith("/") or rest == "":
+        return Value("~" + rest.lstrip("/"), v.dynamic, v.exprs, v.default)
+    return Value("{node name}" + rest, True, ["node name"] + v.exprs, v.default)
 
 
 class Resolver:
@@ -130,7 +138,7 @@ class Resolver:
             v = concat([self.evaluate(x, depth + 1) for x in e[1]])
             return node_private(v) if v.node else v
         if k == "node":
-            return Value("/", node=True)
+            return Value(NODE, node=True)
         if k == "param":
             d = e[2]
             default = None
