@@ -39,6 +39,8 @@ _CPP_METHODS: dict[str, dict] = {
     "get_parameter": {"api": "rclcpp", "kind": "param_read", "name": 0, "value": 1, "ros": 2},
     "get_parameter_or": {"api": "rclcpp", "kind": "param_read", "name": 0, "value": 1, "ros": 2},
     "undeclare_parameter": {"api": "rclcpp", "kind": "param_delete", "name": 0, "ros": 2},
+    # nav2::LifecycleNode
+    "declare_or_get_parameter": {"api": "rclcpp", "kind": "param_declare", "name": 0, "value": 1, "ros": 2},
 }
 
 # qualified free functions: (prefix, name) -> spec
@@ -83,17 +85,19 @@ _ANY_PREFIX = {"declare_parameter_if_not_declared": {"api": "rclcpp", "kind": "p
                                                      "value": 2, "ros": 2}}
 
 # calls whose result is a parameter's value
-PARAM_VALUE_CALLS = {"param", "declare_parameter", "get_parameter", "get_parameter_or", "declare_parameter_if_not_declared"}
+PARAM_VALUE_CALLS = {"param", "declare_parameter", "get_parameter", "get_parameter_or", "declare_parameter_if_not_declared",
+                     "declare_or_get_parameter"}
 # calls that write a parameter's value into an argument: method -> index of that argument
 OUT_PARAM_CALLS = {"param": 1, "getParam": 1, "getParamCached": 1, "get_parameter": 1, "get_parameter_or": 1,
                    "get": 1}
 NODE_FIRST = {"declare_parameter_if_not_declared"}
 # where a parameter's default value is: the last argument, or the one after the name
 DEFAULT_AT = {"param": "last", "get_parameter_or": "last", "declare_parameter": "next",
-              "declare_parameter_if_not_declared": "next"}
+              "declare_parameter_if_not_declared": "next", "declare_or_get_parameter": "next"}
 PARAM_METHODS = {"declare_parameter", "get_parameter", "get_parameter_or", "get_parameters", "set_parameter",
                  "set_parameters", "set_parameters_atomically", "undeclare_parameter", "declare_parameters",
-                 "getParam", "setParam", "param", "deleteParam", "searchParam", "getParamCached"}
+                 "getParam", "setParam", "param", "deleteParam", "searchParam", "getParamCached",
+                 "declare_or_get_parameter"}
 NOT_USER_FUNCS = {"bind", "make_shared", "make_unique", "printf", "ROS_INFO", "ROS_WARN", "ROS_ERROR", "ROS_DEBUG",
                   "RCLCPP_INFO", "RCLCPP_WARN", "RCLCPP_ERROR", "RCLCPP_DEBUG", "c_str", "push_back", "size",
                   "emplace_back", "publish", "sleep", "ok", "spinOnce", "spin", "format", "str", "append", "find",
@@ -122,6 +126,10 @@ def cpp_spec(m: str, prefix: Optional[str], nargs: int) -> Optional[dict]:
     if prefix == "" and m in _CPP_UNQUALIFIED:
         return _ok(_CPP_FREE[_CPP_UNQUALIFIED[m]], nargs)
     spec = _CPP_METHODS.get(m)
+    if prefix == "" and (spec is None or spec["api"] != "rclcpp"):
+        # a plain call: a node's own method (rclcpp, in a Node subclass); roscpp's are node
+        # handle methods, never called bare (a local lambda called getParam is not one)
+        return None
     if spec is None:
         if m == "param":
             spec = {"api": "roscpp", "kind": "param_read", "name": 0, "value": 1 if nargs >= 3 else 1, "ros": 1}

@@ -338,6 +338,9 @@ class _Walker:
 
     def _local_or_global(self, n, typ, tt: str, name: str, dd, value, vexing: bool = False) -> None:
         full_t = self._decl_type(n, typ, dd)
+        if value is not None and value.type == "call_expression" and _ptype(full_t):
+            # double rate = declare_parameter("rate", ...): the parameter's type is the variable's
+            self.hints.setdefault(value.start_byte, _ptype(full_t))
         args = None
         if value is not None and value.type in ("argument_list", "initializer_list"):
             args = list(value.named_children)
@@ -589,7 +592,7 @@ class _Walker:
         recv, m, targs, prefix = _callee(self, fnode)
         if m in _AS_TYPE and recv is not None and recv.type == "call_expression":
             self.hints[recv.start_byte] = _AS_TYPE[m]
-        if m in apis.PARAM_METHODS and recv is not None and _CLIENT.search(self.t(recv)):
+        if m in apis.PARAM_METHODS and recv is not None and self._param_client(recv):
             m = None  # a parameters client: another node's parameters
         if m in ("set_parameter", "set_parameters", "set_parameters_atomically") and argn and \
                 len(self.f["calls"]) < MAX_CALLS:
@@ -672,6 +675,17 @@ class _Walker:
             if vt:
                 call["targs"] = [vt]
         self.f["calls"].append(call)
+
+    def _param_client(self, recv) -> bool:
+        """Whether a receiver is a parameters client (``SyncParametersClient``...)."""
+        t = self.t(recv)
+        if _CLIENT.search(t):
+            return True
+        fn = self.fn
+        if recv.type == "identifier" and fn is not None and t in fn.locals:
+            loc = fn.locals[t]
+            return bool(re.search(r"ParametersClient", (loc.get("t") or "") + " " + str(loc.get("ir"))))
+        return False
 
     def _set_parameters(self, n, fnode, arg) -> None:
         """``set_parameter(rclcpp::Parameter("name", value))`` and ``set_parameters({...})``."""
@@ -757,10 +771,11 @@ class _Walker:
         if ty == "unary_expression" and a.named_children and a.named_children[-1].type == "number_literal":
             return self.value_type(a.named_children[-1])
         if ty in ("compound_literal_expression",) or (ty == "call_expression" and t.startswith(("std::vector", "vector"))):
-            m = re.match(r"(?:std::)?vector\s*<\s*([\w:]+)\s*>", t)
+            m = re.match(r"(?:std::)?vector\s*<\s*([\w: ]+)\s*>", t)
             if m:
-                inner = _ptype(m.group(1))
-                return inner + "[]" if inner else None
+                return _ptype(f"std::vector<{m.group(1)}>")
+            if re.match(r"(?:std::)?string\s*[{(]", t):
+                return "string"
         if ty == "call_expression":
             fnode = a.child_by_field_name("function")
             ft = self.t(fnode) if fnode is not None else ""

@@ -150,6 +150,8 @@ def _ptype(t: Optional[str]) -> Optional[str]:
     s = " ".join(s.split())
     m = re.match(r"(?:std::)?vector\s*<\s*(.+)\s*>$", s)
     if m:
+        if m.group(1).strip() in ("uint8_t", "std::uint8_t", "unsigned char", "char"):
+            return "byte[]"
         inner = _ptype(m.group(1))
         return inner + "[]" if inner else None
     base = s.split("::")[-1].strip()

@@ -145,7 +145,12 @@ class Resolver:
             if d is not None:
                 dv = self.evaluate(d, depth + 1)
                 default = None if dv.dynamic else dv.text
-            return Value.dyn(e[3], default)
+            text = e[3]
+            if "(" in text:  # used where it is read: named after the parameter
+                nv = self.evaluate(e[1], depth + 1)
+                if not nv.dynamic and nv.text:
+                    text = nv.text.lstrip("~/")
+            return Value.dyn(text, default)
         if k == "ctor":
             args = e[2]
             if args:
