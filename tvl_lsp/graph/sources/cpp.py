@@ -30,7 +30,7 @@ _CLIENT = re.compile(r"client", re.I)
 _PLACEHOLDER = re.compile(r"^(?:(?:boost|std)::placeholders::|::)?_(\d)$")
 _NODEISH = re.compile(r"^(?:\*?this|n|nh|pnh|nh_?|n_|node|node_|priv_nh_?|private_nh_?|nh_priv_?|nh_private_?|"
                       r"private_node_handle_?|node_handle_?|nodehandle_?|.*_nh_?|nh_.*|.*node_handle.*|.*_node_?|"
-                      r"node_ptr_?|parent_?|parent_node_?|it_?|image_transport_?)$", re.I)
+                      r"node_ptr_?|parent_?|parent_node_?|it_?|\w+_it_?|image_transport_?|\w*_transport_?)$", re.I)
 _BLOCKS = ("if_statement", "for_statement", "for_range_loop", "while_statement", "do_statement",
            "switch_statement", "case_statement", "catch_clause", "try_statement", "conditional_expression",
            "lambda_expression")
@@ -532,7 +532,7 @@ class _Walker:
             return self.ir(argn[0], depth + 1) if argn else ["s", ""]
         if m in ("getName", "get_fully_qualified_name") and (prefix in ("ros::this_node", "") or recv is None):
             return ["node"]
-        if m in ("resolve_topic_or_service_name", "resolveName", "resolve_name", "remap_name") and argn:
+        if m in ("resolve_topic_or_service_name", "resolveName", "resolve_name", "remap_name", "clean") and argn:
             return self.ir(argn[0], depth + 1)  # the name as the node resolves it: the same graph name
         if m in ("getNodeHandle", "getMTNodeHandle", "get_node_handle"):
             return ["nh", ["s", ""]]
@@ -590,6 +590,14 @@ class _Walker:
         args = n.child_by_field_name("arguments")
         argn = list(args.named_children) if args is not None else []
         recv, m, targs, prefix = _callee(self, fnode)
+        if m == "reset" and recv is not None and len(argn) == 1 and argn[0].type == "new_expression":
+            typ = argn[0].child_by_field_name("type")
+            args2 = argn[0].child_by_field_name("arguments")
+            a2 = list(args2.named_children) if args2 is not None else []
+            irs = [self.ir(a) for a in a2]
+            if typ is not None and "NodeHandle" in self.t(typ) and a2 and self.nodeish(a2[0]):
+                irs[0] = ["nhref", irs[0]]
+            self.assign(recv, ["ctor", self.t(typ) if typ is not None else None, irs])
         if m in _AS_TYPE and recv is not None and recv.type == "call_expression":
             self.hints[recv.start_byte] = _AS_TYPE[m]
         if m in apis.PARAM_METHODS and recv is not None and self._param_client(recv):
@@ -626,9 +634,10 @@ class _Walker:
 
     def _call_site(self, n, fnode, recv, m, targs, prefix, argn, spec) -> None:
         name_i = spec["name"]
-        if m == "subscribe" and len(argn) > 1 and argn[0].type != "string_literal" and self.nodeish(argn[0]):
+        if m == "subscribe" and len(argn) > 1 and argn[0].type != "string_literal" and (
+                self.nodeish(argn[0]) or argn[1].type in ("string_literal", "concatenated_string", "raw_string_literal")):
             name_i = 1  # message_filters::Subscriber::subscribe(nh, topic, queue)
-            spec = dict(spec, api="message_filters", cb=None, ros=0)
+            spec = dict(spec, api="message_filters", cb=None, ros=0, nharg=True)
         if spec.get("skip_nodes"):
             while name_i < len(argn) - 1 and self.nodeish(argn[name_i]):
                 name_i += 1
@@ -665,6 +674,9 @@ class _Walker:
                 call["vtype"] = self.value_type(argn[di])
         if spec["kind"].startswith("param") and not call.get("vtype") and n.start_byte in self.hints:
             call["vtype"] = self.hints[n.start_byte]
+        if spec.get("nharg"):
+            call["nharg"] = self.recv_ir(argn[0].child_by_field_name("argument") or argn[0]
+                                         if argn[0].type == "pointer_expression" else argn[0])
         if spec.get("fixed"):
             call["fixed"] = spec["fixed"]
         if spec.get("camera"):

@@ -331,7 +331,17 @@ def _cpp_call(ix: _CppIndex, r: Resolver, scope, make, path: str, call: dict, ro
     if api in ("image_transport", "message_filters", "point_cloud_transport"):
         ros_v = 0
     name = r.evaluate(call["name"])
-    if ros_v == 1 or (ros_v == 0 and ros == 1) or api in ("roscpp", "image_transport") and ros != 2:
+    if call.get("nharg") is not None and ros != 2:
+        # filter.subscribe(nh / image transport, "topic", ...): the handle passed first
+        na = call["nharg"].get("ir")
+        nsv = _nh_namespace(r, ix, na)
+        if na and na[0] in ("id", "mem"):
+            c2, n2 = (na[2], na[1]) if na[0] == "id" else (na[1], na[2])
+            irs = ix.members.get(c2, {}).get(n2) or []
+            if irs and all(x and x[0] == "ctor" and "ImageTransport" in (x[1] or "") for x in irs):
+                nsv = agree([_nh_namespace(r, ix, (x[2] or [["s", ""]])[0]) for x in irs], n2)
+        name = join_values(nsv, name)
+    elif ros_v == 1 or (ros_v == 0 and ros == 1) or api in ("roscpp", "image_transport") and ros != 2:
         if recv is not None and not recv.get("free"):
             nsv = _nh_namespace(r, ix, recv.get("ir"))
             if is_it and recv.get("ir") and recv["ir"][0] == "ctor":
