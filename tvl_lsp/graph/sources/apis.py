@@ -249,6 +249,11 @@ def py_value_type(kind: str, text: str) -> Optional[str]:
         return "bool"
     if kind in ("string", "concatenated_string"):
         return "string"
+    if kind == "binary_operator":
+        nums = re.findall(r"\d+(\.\d*)?(?:[eE][-+]?\d+)?", text)
+        if nums and re.fullmatch(r"[\d.eE+\-*/() ]+", text):
+            return "double" if any(n for n in nums) or "." in text or "/" in text else "int"
+        return None
     if kind == "list":
         return "list"
     if kind == "dictionary":

@@ -27,6 +27,18 @@ _AS_TYPE = {"as_double": "double", "as_int": "int", "as_bool": "bool", "as_strin
             "as_double_array": "double[]", "as_integer_array": "int[]", "as_bool_array": "bool[]",
             "as_string_array": "string[]", "as_byte_array": "int[]"}
 _CLIENT = re.compile(r"client", re.I)
+_MATH_CONST = re.compile(r"\bM_(?:PI|PI_2|PI_4|E|SQRT2|LN2)\b")
+
+
+def _arith_type(t: str) -> Optional[str]:
+    """The type of an arithmetic expression of literals (``M_PI / 180.0``, ``2 * 3``)."""
+    u = _MATH_CONST.sub("1.0", t)
+    toks = re.findall(r"0[xX][0-9a-fA-F]+[uUlL]*|\d+\.?\d*(?:[eE][-+]?\d+)?[fFuUlL]*|\.\d+(?:[eE][-+]?\d+)?[fF]?"
+                      r"|[A-Za-z_]\w*|\S", u)
+    if not toks or any(not (x[0].isdigit() or x[0] == "." or x in "+-*/()") for x in toks):
+        return None
+    return "double" if any("." in x or ("e" in x.lower() and not x.lower().startswith("0x")) for x in toks) \
+        or "/" in toks else "int"
 _PLACEHOLDER = re.compile(r"^(?:(?:boost|std)::placeholders::|::)?_(\d)$")
 _NODEISH = re.compile(r"^(?:\*?this|n|nh|pnh|nh_?|n_|node|node_|priv_nh_?|private_nh_?|nh_priv_?|nh_private_?|"
                       r"private_node_handle_?|node_handle_?|nodehandle_?|.*_nh_?|nh_.*|.*node_handle.*|.*_node_?|"
@@ -532,8 +544,13 @@ class _Walker:
             return self.ir(argn[0], depth + 1) if argn else ["s", ""]
         if m in ("getName", "get_fully_qualified_name") and (prefix in ("ros::this_node", "") or recv is None):
             return ["node"]
-        if m in ("resolve_topic_or_service_name", "resolveName", "resolve_name", "remap_name", "clean") and argn:
-            return self.ir(argn[0], depth + 1)  # the name as the node resolves it: the same graph name
+        if m in ("resolve_topic_or_service_name", "resolveName", "resolve_name", "remap_name",
+                 "expand_topic_or_service_name") and argn:
+            # the name as the node resolves it (absolute): the same graph name used alone, but
+            # its namespace is not known inside a longer name
+            return ["resolved", self.ir(argn[0], depth + 1), self.t(n)[:200]]
+        if m == "clean" and argn:
+            return self.ir(argn[0], depth + 1)
         if m in ("getNodeHandle", "getMTNodeHandle", "get_node_handle"):
             return ["nh", ["s", ""]]
         if m in ("getPrivateNodeHandle", "getMTPrivateNodeHandle"):
@@ -702,14 +719,21 @@ class _Walker:
     def _set_parameters(self, n, fnode, arg) -> None:
         """``set_parameter(rclcpp::Parameter("name", value))`` and ``set_parameters({...})``."""
         items = list(arg.named_children) if arg.type == "initializer_list" else [arg]
+        if arg.type == "initializer_list" and items and items[0].type in ("string_literal", "concatenated_string"):
+            items = [arg]   # set_parameter({"name", value}): one Parameter, braced
         for it in items[:64]:
-            if it.type != "call_expression":
-                continue
-            f2 = it.child_by_field_name("function")
-            a2 = it.child_by_field_name("arguments")
-            if f2 is None or a2 is None or not self.t(f2).replace(" ", "").endswith("Parameter"):
-                continue
-            args = list(a2.named_children)
+            if it.type == "initializer_list":
+                args = list(it.named_children)
+                if not args or args[0].type not in ("string_literal", "concatenated_string", "identifier"):
+                    continue
+            else:
+                if it.type != "call_expression":
+                    continue
+                f2 = it.child_by_field_name("function")
+                a2 = it.child_by_field_name("arguments")
+                if f2 is None or a2 is None or not self.t(f2).replace(" ", "").endswith("Parameter"):
+                    continue
+                args = list(a2.named_children)
             if not args:
                 continue
             call = {"m": "set_parameter", "api": "rclcpp", "kind": "param_write", "ros": 2,
@@ -782,6 +806,8 @@ class _Walker:
             return "string"
         if ty == "unary_expression" and a.named_children and a.named_children[-1].type == "number_literal":
             return self.value_type(a.named_children[-1])
+        if ty in ("binary_expression", "parenthesized_expression"):
+            return _arith_type(t)
         if ty in ("compound_literal_expression",) or (ty == "call_expression" and t.startswith(("std::vector", "vector"))):
             m = re.match(r"(?:std::)?vector\s*<\s*([\w: ]+)\s*>", t)
             if m:
@@ -791,8 +817,11 @@ class _Walker:
         if ty == "call_expression":
             fnode = a.child_by_field_name("function")
             ft = self.t(fnode) if fnode is not None else ""
-            if ft in ("std::string", "string"):
+            if ft in ("std::string", "string") or re.search(r"(\.|->)\s*(c_str|str|string)$", ft):
                 return "string"
+            cm = re.match(r"(?:static_cast|[\w:]*numeric_cast)\s*<\s*([\w: <>]+?)\s*>$", ft.replace("\n", " "))
+            if cm:
+                return _ptype(cm.group(1))
             if ft.endswith("ParameterValue"):
                 args = a.child_by_field_name("arguments")
                 if args is not None and args.named_children:

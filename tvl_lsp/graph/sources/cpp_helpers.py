@@ -157,7 +157,8 @@ def _ptype(t: Optional[str]) -> Optional[str]:
     base = s.split("::")[-1].strip()
     if base in ("double", "float"):
         return "double"
-    if base in ("int", "long", "long long", "unsigned", "unsigned int", "short", "size_t", "int8_t", "uint8_t",
+    if base in ("int", "long", "long long", "unsigned", "unsigned int", "unsigned char", "unsigned short",
+                "unsigned long", "short", "size_t", "int8_t", "uint8_t",
                 "int16_t", "uint16_t", "int32_t", "uint32_t", "int64_t", "uint64_t", "long int", "unsigned long",
                 "std::size_t"):
         return "int"

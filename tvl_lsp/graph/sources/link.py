@@ -230,6 +230,8 @@ def _param_type_cpp(ix: _CppIndex, call: dict, scope_cls: Optional[str]) -> Opti
             for c in ix.consts.get(v[1:], []):
                 if c and c[0] == "lit":
                     return c[1]
+                if c and c[0] in ("s", "cat"):
+                    return "string"     # a string constant (static const char X[] = "...")
         return t
     return v
 
@@ -443,6 +445,8 @@ def _construction(ix: _CppIndex, r: Resolver, scope, make, path: str, rec: dict,
     if idx is None:
         return []
     name = r.evaluate(args[idx])
+    if not name.text and not name.dynamic:
+        return []  # message_filters::Subscriber<T>(nh, "", q): not subscribed until subscribe()
     kind = spec["kind"]
     api = spec["api"]
     ros_v = spec.get("ros", 0)
@@ -592,10 +596,10 @@ def param_types(eps: list[Endpoint]) -> None:
     declares or reads it with elsewhere (one type only)."""
     known: dict[str, set] = {}
     for e in eps:
-        if e.kind.startswith("param") and e.type and not e.dynamic:
+        if e.kind.startswith("param") and e.kind != "param_search" and e.type and not e.dynamic:
             known.setdefault(e.name, set()).add(e.type)
     for e in eps:
-        if e.kind.startswith("param") and e.type is None and not e.dynamic:
+        if e.kind.startswith("param") and e.kind != "param_search" and e.type is None and not e.dynamic:
             ts = known.get(e.name)
             if ts and len(ts) == 1:
                 e.type = next(iter(ts))

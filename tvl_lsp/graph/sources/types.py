@@ -115,7 +115,8 @@ def to_ros(qualified: str, context: str = "msg") -> Optional[str]:
     if not pkg_parts:
         return None
     pkg = pkg_parts[-1]
-    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", pkg) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+    # a ROS package name is lower case (REP 144): ServiceT::Request is a template parameter's
+    if not re.fullmatch(r"[a-z][a-z0-9_]*", pkg) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
         return None
     if pkg in ("std", "boost", "ros", "rclcpp", "rclpy", "rospy", "actionlib", "rclcpp_action", "this"):
         return None

@@ -17,6 +17,8 @@ Expressions are JSON-able lists:
 - ``["ctor", type, [args]]`` a construction (``ros::NodeHandle(nh, "sub")``, ``std::string("x")``);
 - ``["nh", namespace-expr]`` a ROS 1 node handle in that namespace;
 - ``["node"]`` the node's own name (``ros::this_node::getName()``): ``"~"`` in a name;
+- ``["resolved", expr, text]`` a name resolved by the node (``nh.resolveName(x)``): ``expr``
+  alone, unknown inside a longer name (its namespace);
 - ``["dyn", text]`` anything else (dynamic, with its source text).
 
 :func:`evaluate` turns one into a :class:`Value` (a string, or a pattern with ``{expr}`` holes).
@@ -135,8 +137,10 @@ class Resolver:
         if k == "s":
             return Value(e[1])
         if k == "cat":
-            v = concat([self.evaluate(x, depth + 1) for x in e[1]])
+            v = concat([Value.dyn(x[2]) if x and x[0] == "resolved" else self.evaluate(x, depth + 1) for x in e[1]])
             return node_private(v) if v.node else v
+        if k == "resolved":
+            return self.evaluate(e[1], depth + 1)
         if k == "node":
             return Value(NODE, node=True)
         if k == "param":
@@ -226,5 +230,7 @@ def text_of(e) -> str:
     if k == "node":
         return "node name"
     if k == "lit":
+        return e[2]
+    if k == "resolved":
         return e[2]
     return "?"
