@@ -39,8 +39,6 @@ _CPP_METHODS: dict[str, dict] = {
     "get_parameter": {"api": "rclcpp", "kind": "param_read", "name": 0, "value": 1, "ros": 2},
     "get_parameter_or": {"api": "rclcpp", "kind": "param_read", "name": 0, "value": 1, "ros": 2},
     "undeclare_parameter": {"api": "rclcpp", "kind": "param_delete", "name": 0, "ros": 2},
-    # nav2::LifecycleNode
-    "declare_or_get_parameter": {"api": "rclcpp", "kind": "param_declare", "name": 0, "value": 1, "ros": 2},
 }
 
 # qualified free functions: (prefix, name) -> spec
@@ -82,7 +80,11 @@ _CPP_FREE: dict[tuple[str, str], dict] = {
 _CPP_UNQUALIFIED: dict[str, tuple[str, str]] = {}
 # helpers known by their name whatever their namespace (nav2_util::, nav2::, unqualified)
 _ANY_PREFIX = {"declare_parameter_if_not_declared": {"api": "rclcpp", "kind": "param_declare", "name": 1,
-                                                     "value": 2, "ros": 2}}
+                                                     "value": 2, "ros": 2},
+               # nav2: node->declare_or_get_parameter(name, default) and
+               # nav2::declare_or_get_parameter(node, name, default)
+               "declare_or_get_parameter": {"api": "rclcpp", "kind": "param_declare", "name": 0, "ros": 2,
+                                            "skip_nodes": True, "value_after_name": True}}
 
 # calls whose result is a parameter's value
 PARAM_VALUE_CALLS = {"param", "declare_parameter", "get_parameter", "get_parameter_or", "declare_parameter_if_not_declared",

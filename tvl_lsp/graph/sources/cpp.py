@@ -542,7 +542,8 @@ class _Walker:
         recv, m, targs, prefix = _callee(self, fnode)
         if m in ("string", "basic_string", "string_view", "QString", "String") and prefix in ("std", "", None, "ros"):
             return self.ir(argn[0], depth + 1) if argn else ["s", ""]
-        if m in ("getName", "get_fully_qualified_name") and (prefix in ("ros::this_node", "") or recv is None):
+        if (m == "getName" and prefix == "ros::this_node") or \
+                (m == "get_fully_qualified_name" and (recv is None or self.t(recv) == "this")):
             return ["node"]
         if m in ("resolve_topic_or_service_name", "resolveName", "resolve_name", "remap_name",
                  "expand_topic_or_service_name") and argn:
@@ -566,7 +567,8 @@ class _Walker:
                 return ["dyn", self.t(n)[:200]]
             return self.ir(recv, depth + 1)
         if m in apis.PARAM_VALUE_CALLS and argn:
-            name_i = 1 if m in apis.NODE_FIRST else 0
+            name_i = 1 if m in apis.NODE_FIRST or (len(argn) > 1 and self.nodeish(argn[0])
+                                                    and argn[0].type != "string_literal") else 0
             if len(argn) > name_i:
                 d = None
                 if m in ("param", "declare_parameter", "get_parameter_or", "declare_parameter_if_not_declared") \
@@ -594,7 +596,13 @@ class _Walker:
             if fn is not None:
                 loc = fn.locals.get(name)
                 if loc is not None:
-                    return _is_nodeish_type(loc["t"])
+                    if _is_nodeish_type(loc["t"]):
+                        return True
+                    if "auto" in (loc["t"] or "") or not loc["t"]:
+                        init = str(loc.get("ir"))
+                        return bool(re.search(r"shared_from_this|[Nn]ode|NodeHandle|lock\(", init)) or \
+                            bool(_NODEISH.match(name))
+                    return False
                 p = fn.params.get(name)
                 if p is not None:
                     return _is_nodeish_type(p[1]) or bool(_NODEISH.match(name)) and "string" not in p[1]
@@ -660,6 +668,8 @@ class _Walker:
                 name_i += 1
             if spec.get("type_after_name"):
                 spec = dict(spec, type_arg=name_i + 1)
+            if spec.get("value_after_name"):
+                spec = dict(spec, value=name_i + 1)
         if name_i >= len(argn):
             return
         name_node = argn[name_i]
@@ -684,7 +694,7 @@ class _Walker:
         vi = spec.get("value")
         if vi is not None and vi < len(argn):
             call["vtype"] = self.value_type(argn[vi])
-        if m in apis.DEFAULT_AT and len(argn) > name_i + 1:
+        if m in apis.DEFAULT_AT and len(argn) > name_i + 1 and (m != "declare_parameter" or name_i == 0):
             di = len(argn) - 1 if apis.DEFAULT_AT[m] == "last" else name_i + 1
             call["default"] = self.t(argn[di])[:120]
             if not call.get("vtype"):
