@@ -178,3 +178,39 @@ def test_graph_command_with_no_project_file(tmp_path, capsys):
     code = main(["graph", str(ws / "src" / "robot_bringup" / "launch" / "robot.launch"), "--no-sources"])
     doc = json.loads(capsys.readouterr()[0])
     assert code == 0 and doc["links"] == []
+
+
+def test_the_thesis_figures_from_the_examples_sources(capsys):
+    """examples/ws: random_controller and multiplexer read from their sources (thesis Listings 2.4
+    and 2.7), turtlesim's two nodes hinted (their sources are not in the repository); the graphs
+    of the three configurations of chapter 2, drawn as rqt_graph draws them, are Figures 3, 5, 7."""
+    launch = Path(__file__).parents[1] / "examples" / "ws" / "src" / "turtlerand" / "launch" / "generic.launch"
+    twist = "geometry_msgs/Twist"
+    figures = {
+        ("Teleop",): {("/Teleop", "publish", "/turtle1/cmd_vel", twist),
+                      ("/Turtlesim", "subscribe", "/turtle1/cmd_vel", twist)},                      # Figure 3
+        ("Random",): {("/Random", "publish", "/turtle1/cmd_vel", twist),
+                      ("/Turtlesim", "subscribe", "/turtle1/cmd_vel", twist)},                      # Figure 5
+        ("Teleop", "Random", "Multiplexer"): {
+            ("/Teleop", "publish", "/cmd_vel_high", twist), ("/Random", "publish", "/cmd_vel_low", twist),
+            ("/Multiplexer", "subscribe", "/cmd_vel_high", twist),
+            ("/Multiplexer", "subscribe", "/cmd_vel_low", twist),
+            ("/Multiplexer", "publish", "/turtle1/cmd_vel", twist),
+            ("/Turtlesim", "subscribe", "/turtle1/cmd_vel", twist)},                                # Figure 7
+    }
+    for on, links in figures.items():
+        argv = ["graph", str(launch), "--no-leaf-topics", "--no-services", "--no-params"]
+        for f in ("Teleop", "Random", "Multiplexer"):
+            argv += ["-i" if f in on else "-x", f]
+        code = main(argv)
+        out, err = capsys.readouterr()
+        assert code == 0, err
+        doc = json.loads(out)
+        assert {(x["node"], x["kind"], x["topic"], x["type"]) for x in doc["links"]} == links, on
+        assert {t["name"]: t["type"] for t in doc["topics"]} == {x[2]: twist for x in links}
+    # the parameter Random reads is the launch file's <param name="vel">
+    code = main(["graph", str(launch), "-i", "Random"])
+    doc = json.loads(capsys.readouterr()[0])
+    vel = next(p for p in doc["parameters"] if p["name"] == "/vel")
+    assert vel["value"] == "0.5" and vel["type"] == "double"
+    assert any(x["node"] == "/Random" and x["kind"] == "read" and x["topic"] == "/vel" for x in doc["links"])

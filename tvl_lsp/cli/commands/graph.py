@@ -36,7 +36,7 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--project", action="append", default=None, metavar="FILE",
                     help="HAROS project file(s) with the node hints (default: those naming the launch file)")
     ap.add_argument("--workspace", metavar="DIR", help="the workspace folder (default: found from LAUNCH)")
-    ap.add_argument("--no-params", action="store_true", help="DOT / Mermaid: leave parameters out")
+    ap.add_argument("--no-params", action="store_true", help="leave parameters out")
     ap.add_argument("--no-services", action="store_true", help="leave services out")
     ap.add_argument("--no-actions", action="store_true", help="leave actions out")
     ap.add_argument("--no-leaf-topics", action="store_true",
@@ -89,7 +89,8 @@ def main(argv: list[str]) -> int:
     if ctx.extraction is not None:
         for n in sorted(set(ctx.extraction.notes))[:20]:
             print(f"tvl-lsp graph: note: {n}", file=sys.stderr)
-    g = view(g, services=not args.no_services, actions=not args.no_actions, leaf_topics=not args.no_leaf_topics)
+    g = view(g, services=not args.no_services, actions=not args.no_actions, parameters=not args.no_params,
+             leaf_topics=not args.no_leaf_topics)
     if args.format == "json":
         out = json.dumps(to_json(g), indent=2) + "\n"
     elif args.format == "dot":
