@@ -552,6 +552,10 @@ class _Walker:
             return ["resolved", self.ir(argn[0], depth + 1), self.t(n)[:200]]
         if m == "clean" and argn:
             return self.ir(argn[0], depth + 1)
+        if m == "create" and prefix and prefix.split("::")[-1] in ("SubscribeOptions", "AdvertiseOptions",
+                                                                  "AdvertiseServiceOptions") and argn:
+            # ros::SubscribeOptions::create<T>("topic", ...): n.subscribe(ops) uses its topic and type
+            return ["opts", self.ir(argn[0], depth + 1), [self.t(x) for x in targs], self.t(n)[:200]]
         if m in ("getNodeHandle", "getMTNodeHandle", "get_node_handle"):
             return ["nh", ["s", ""]]
         if m in ("getPrivateNodeHandle", "getMTPrivateNodeHandle"):
@@ -673,6 +677,18 @@ class _Walker:
         if name_i >= len(argn):
             return
         name_node = argn[name_i]
+        opts = self.ir(name_node) if len(argn) == 1 and spec["api"] == "roscpp" else None
+        if opts is not None and opts[0] == "opts":
+            # n.subscribe(ops) / n.advertise(ops): the topic and type of the options
+            targs = targs or []
+            call = {"m": m, "api": spec["api"], "kind": spec["kind"], "ros": 1, "name": opts[1],
+                    "expr": self.t(name_node)[:200], "npos": self.pos(name_node), "pos": self._mpos(n, fnode),
+                    "cls": self.cur_cls, "fn": self.fn.name if self.fn else None, "ns": list(self.ns),
+                    "ctx": spec.get("ctx", "msg"), "prefix": prefix or "", "targs": opts[2]}
+            if recv is not None:
+                call["recv"] = self.recv_ir(recv)
+            self.f["calls"].append(call)
+            return
         call = {"m": m, "api": spec["api"], "kind": spec["kind"], "ros": spec.get("ros", 0),
                 "name": self.ir(name_node), "expr": self.t(name_node)[:200], "npos": self.pos(name_node),
                 "pos": self._mpos(n, fnode), "cls": self.cur_cls, "fn": self.fn.name if self.fn else None,

@@ -141,6 +141,8 @@ class Resolver:
             return node_private(v) if v.node else v
         if k == "resolved":
             return self.evaluate(e[1], depth + 1)
+        if k == "opts":
+            return Value.dyn(e[3])
         if k == "node":
             return Value(NODE, node=True)
         if k == "param":
