@@ -60,7 +60,10 @@ async def test_configurator_view_requests(client: LanguageClient):
     assert not r["ok"] and r["refused"]["conflictsWith"] == {"Random": True}
     assert "Vel is mandatory in Random" in r["refused"]["message"]
     p = await view("problems")
-    assert [x["code"] for x in p["problems"]] == ["constant-condition"]
+    # the graph's finding (a product with turtlesim alone: nothing publishes /turtle1/cmd_vel) is
+    # excluded once Random is decided; the constant condition stays
+    assert [x["code"] for x in p["problems"]] == ["topic-without-publisher", "constant-condition"]
+    assert p["status"][p["problems"][0]["id"]] == "excluded"
     r = await view("decide", {"feature": "Multiplexer", "value": False})
     assert r["state"]["complete"]
     g = await view("generate", {"mode": "current"})
