@@ -55,6 +55,14 @@ def test_text_output_and_exit_codes(capsys, tmp_path):
     (tmp_path / "empty").mkdir()
     code, _, err = _run([str(tmp_path / "empty")], capsys)
     assert code == 2 and "no ROS package" in err
+    # sources without a package.xml: one package named after the folder
+    (tmp_path / "bare").mkdir()
+    (tmp_path / "bare" / "node.py").write_text("import rospy\nfrom std_msgs.msg import String\n"
+                                               "rospy.Publisher('out', String, queue_size=1)\n")
+    code, out, _ = _run([str(tmp_path / "bare"), "--json", "--no-cache"], capsys)
+    rows = json.loads(out)["endpoints"]
+    assert code == 0 and [(r["package"], r["kind"], r["name"], r["type"]) for r in rows] == [
+        ("bare", "publish", "out", "std_msgs/String")]
 
 
 def test_only_changed_files_are_parsed_again(tmp_path, monkeypatch):

@@ -8,7 +8,7 @@ asks for them (before the launch file's namespace and remaps); a name the code c
 time is *dynamic*: ``{expression}`` stands for each part that is not known before.  Output is
 sorted and stable, for CI and for people checking what was read.
 
-Exit status: 0; 2 on usage errors (a path that does not exist, or holds no package).
+Exit status: 0; 2 on usage errors (a path that does not exist, or holds no package and no ROS source).
 """
 
 from __future__ import annotations
@@ -96,9 +96,9 @@ def main(argv: list[str]) -> int:
         return 2
     from ...graph.sources import extract
     ex = extract(args.paths, disk=not args.no_cache)
-    if not ex.packages:
-        print(f"tvl-lsp extract: no ROS package (a folder with a package.xml) in or around {', '.join(args.paths)}",
-              file=sys.stderr)
+    if not ex.executables:
+        print(f"tvl-lsp extract: no ROS package (a folder with a package.xml) and no ROS sources in or around "
+              f"{', '.join(args.paths)}", file=sys.stderr)
         return 2
     out = json.dumps(to_json(ex), indent=1, sort_keys=False) + "\n" if args.json else to_text(ex)
     if args.output:

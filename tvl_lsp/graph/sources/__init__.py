@@ -57,6 +57,11 @@ def extract(paths, texts: Optional[Mapping[str, str]] = None, disk: bool = True,
     ex = Extraction()
     stats = cache.Stats()
     pkgs = find_packages([os.path.abspath(p) for p in paths])
+    if not pkgs:
+        # sources without a package.xml (a bare folder of nodes): read as one package named
+        # after the folder, its ROS version from the calls
+        pkgs = [Package(os.path.basename(os.path.normpath(p)) or "sources", os.path.normpath(p), None, 0)
+                for p in (os.path.abspath(x) for x in paths) if os.path.isdir(p)]
     pfs: list[PackageFiles] = []
     known: dict[str, set] = {}
     cmake_edited = any(os.path.basename(k) in ("CMakeLists.txt", "setup.py", "setup.cfg") for k in texts)
