@@ -414,6 +414,11 @@ class Session:
                 self._states.move_to_end(key)
                 return hit
             p = self.analysis.propagate(decisions, count=False)
+            if not p.ok and not decisions:
+                # a void model: it opens (its problems say why), every decision is refused
+                out = {"decisions": {}, "implied": {}, "open": list(self.names), "complete": False, "void": True}
+                self._states[key] = out
+                return out
             if not p.ok:
                 raise SessionError("the decisions conflict: " + ", ".join(p.conflict or []))
             return self._remember_state(decisions, p)

@@ -51,7 +51,7 @@ def main(argv: list[str]) -> int:
     from .server import make_server
     try:
         httpd, url = make_server(args.path, args.port, args.folder, verbose=args.verbose, limit=max(1, args.limit),
-                                 project_files=args.project, compile_budget=max(1.0, args.count_budget))
+                                 project_files=args.project, compile_budget=max(0.01, args.count_budget))
     except SessionError as ex:
         print(f"tvl-lsp ui: {ex}", file=sys.stderr)
         return 2

@@ -30,7 +30,7 @@ const SVGNS = 'http://www.w3.org/2000/svg';
 // under its root stays fast to draw and to click); each click on it draws MORE_KIDS more
 const MAX_KIDS = 40;
 const MORE_KIDS = 100;
-const ARC_R = 16;
+const ARC_R = 13;
 
 interface ViewNode {
   key: string;
@@ -230,15 +230,16 @@ export class Diagram implements FeatureView {
           .attr('data-more', d.data.kids.length && d.data.hidden ? 'partial' : null);
       });
 
-    if (anchor && before) {
+    if (this.autoFit) {
+      // the user has not zoomed or panned: what is drawn is fitted to the panel again
+      this.fit(anchor !== null, true);
+    } else if (anchor && before) {
       const after = this.positions.get(anchor);
       if (after) {
         this.fitting = true;
         this.svg.call(this.zoom.transform, t.translate(before.x - after.x, before.y - after.y));
         this.fitting = false;
       }
-    } else if (this.autoFit) {
-      this.fit(false, true);
     }
     this.restyle();
     this.handlers.shown();

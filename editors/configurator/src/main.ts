@@ -180,7 +180,8 @@ class App implements Page {
 
   countNote(): string {
     if (this.countStatus === 'gave-up' || this.countStatus === 'failed') {
-      return 'not counted: ' + (this.countMessage || 'the model could not be counted');
+      return this.countMessage.startsWith('not counted') ? this.countMessage
+        : 'not counted: ' + (this.countMessage || 'the model could not be counted');
     }
     if (this.countStatus === 'compiling') {
       return 'counting… (the model is being compiled)';
@@ -347,7 +348,7 @@ class App implements Page {
       rem.textContent = '—';
       rem.dataset.remaining = '';
       tot.textContent = '—';
-      this.setCountStatus('gave-up', ' · not counted (the model is too hard to compile in time)', c.message ?? '');
+      this.setCountStatus('gave-up', ' · not counted', c.message ?? '');
       toast(el('div', { class: 'gave-up' }, `${c.message}. The configurator works on without counts: decisions, what they imply, ` +
         'refusals, the graph and the problems are all still exact.'), 'info', true);
       return;
@@ -768,6 +769,10 @@ async function load(modelPath?: string | null, targets?: Targets | null): Promis
     setView(a, featureBox, defaultView(m, width));
     a.applyState(m.state);
     renderProblems(a);
+    if (m.state.void) {
+      toast(el('div', { class: 'void' }, el('strong', {}, 'This model has no product'),
+        ' (it is void): every decision is refused with the reason. The problems below say what makes it void.'), 'error', true);
+    }
     document.body.dataset.ready = 'diagram';
     void a.refreshCounts();
     void loadGraph(a, graphBox, graphPanel);

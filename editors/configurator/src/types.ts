@@ -93,6 +93,8 @@ export interface State {
   complete: boolean;
   problems: Record<string, Status> | null; // null: the files are not checked yet
   graph: Record<string, Status> | null; // null: the graph is not built yet
+  /** the model has no product at all */
+  void?: boolean;
 }
 
 export interface ProblemsJson {
