@@ -340,7 +340,7 @@ def diagnostics(rules: Iterable[Rule], g, valid=None, simplify=None) -> list[tup
         head = f"rule {r.name}" + (f": {r.description}" if r.description else "")
         try:
             if items is None:
-                raise NotEvaluated("there is no computation graph (no launch file is paired with the model)")
+                raise NotEvaluated("the computation graph, which could not be built")
             found = evaluate(r, items)
         except (NotEvaluated, RecursionError) as e:
             msg = f"{head} -- not evaluated: the query uses {e}" if isinstance(e, NotEvaluated) else \

@@ -302,7 +302,8 @@ class Session:
             if self._rule_problems is None:
                 from . import rules
                 found = []
-                for path in self.rule_files():
+                # the rules query launch models: a model configuring no launch file has none
+                for path in (self.rule_files() if self.launch else []):
                     text = self.read_file(path)
                     if text and "rules" in text:
                         found += rules.read_rules(path, text)

@@ -9,16 +9,18 @@ import { hierarchy, tree as d3tree, HierarchyPointNode } from 'd3-hierarchy';
 import { select, Selection } from 'd3-selection';
 import 'd3-transition';
 import { zoom as d3zoom, zoomIdentity, ZoomBehavior, ZoomTransform } from 'd3-zoom';
-import { el, endEllipsis, formatCount, middleEllipsis, percent } from './format';
+import { el, endEllipsis, formatCount, middleEllipsis, percent, textWidth } from './format';
 import { FeatureIndex, FeatureStatus, FeatureView, FeatureViewHandlers, nextValue, STATUS_WORDS, statusOf } from './model';
 import type { Counts, FeatureNode, State } from './types';
 
-const W = 150;
+/** the box width: wider for a model whose names are long (automotive01: N_100300__F_100301) */
+let W = 150;
 const H = 56;
 const GAP_X = 18;
 const GAP_Y = 62;
 const NAME_FONT = '600 13px system-ui, sans-serif';
 const GROUP_FONT = 'italic 11px system-ui, sans-serif';
+const COUNT_FONT = '11px system-ui, sans-serif';
 /** features drawn on load beyond the first level (whole levels are added while they fit) */
 const INITIAL_NODES = 40;
 /** the smallest scale the first view is drawn at when more than the first level is expanded */
@@ -31,6 +33,7 @@ const SVGNS = 'http://www.w3.org/2000/svg';
 const MAX_KIDS = 40;
 const MORE_KIDS = 100;
 const ARC_R = 13;
+const CONTROLS_W = 40;
 
 interface ViewNode {
   key: string;
@@ -42,9 +45,9 @@ interface ViewNode {
 
 /** How small the diagram must be drawn for its first level to fit a panel of this width (the
  * page shows the tree instead when that is too small to read). */
-export function firstLevelScale(root: FeatureNode, width: number): number {
-  const n = Math.min(root.children.length, MAX_KIDS);
-  return width / Math.max(1, n * (W + GAP_X) + 20);
+export function firstLevelScale(index: FeatureIndex, width: number): number {
+  const n = Math.min(index.root.children.length, MAX_KIDS);
+  return width / Math.max(1, n * (boxWidth(index) + GAP_X) + 20);
 }
 
 export class Diagram implements FeatureView {
@@ -74,6 +77,7 @@ export class Diagram implements FeatureView {
   private controls: HTMLElement;
 
   constructor(private host: HTMLElement, private index: FeatureIndex, private handlers: FeatureViewHandlers) {
+    W = boxWidth(index);
     this.root = index.root;
     this.byId = index.byId;
     this.parentOf = index.parentOf;
@@ -126,7 +130,7 @@ export class Diagram implements FeatureView {
       }
       frontier.forEach((c) => this.expanded.add(c.id));
       const e = this.extent();
-      if (Math.min(bw / e.w, bh / e.h) < READABLE) {
+      if (Math.min((bw - CONTROLS_W) / e.w, bh / e.h) < READABLE) {
         frontier.forEach((c) => this.expanded.delete(c.id));
         return;
       }
@@ -232,7 +236,7 @@ export class Diagram implements FeatureView {
 
     if (this.autoFit) {
       // the user has not zoomed or panned: what is drawn is fitted to the panel again
-      this.fit(anchor !== null, true);
+      this.fit(anchor !== null, true, anchor);
     } else if (anchor && before) {
       const after = this.positions.get(anchor);
       if (after) {
@@ -253,7 +257,7 @@ export class Diagram implements FeatureView {
   /** Fit the whole drawn diagram in the panel (never larger than 1.2). The automatic fit (on load,
    * on resize) stops at a readable scale: a first level too wide for the panel is then shown from
    * its root, and the fit button or key shows all of it. */
-  fit(animate = true, readable = false): void {
+  fit(animate = true, readable = false, anchor: string | null = null): void {
     const box = this.host.getBoundingClientRect();
     if (!box.width || !box.height || !this.positions.size) {
       return;
@@ -263,12 +267,21 @@ export class Diagram implements FeatureView {
     const maxX = Math.max(...ps.map((p) => p.x)) + W / 2 + 12;
     const minY = Math.min(...ps.map((p) => p.y)) - H / 2 - 20;
     const maxY = Math.max(...ps.map((p) => p.y)) + H / 2 + 26;
-    let k = Math.min(1.2, box.width / (maxX - minX), box.height / (maxY - minY));
-    let tx = box.width / 2 - k * (minX + maxX) / 2;
+    const bw = box.width - CONTROLS_W; // the zoom buttons keep the right edge
+    let k = Math.min(1.2, bw / (maxX - minX), box.height / (maxY - minY));
+    let tx = bw / 2 - k * (minX + maxX) / 2;
     if (readable && k < MIN_AUTO_SCALE) {
-      k = MIN_AUTO_SCALE;
-      const rootX = this.positions.get(this.root.id)?.x ?? 0;
-      tx = box.width / 2 - k * rootX;
+      // too wide to read whole: readable, but never so large that the first level is cut; shown
+      // from the feature just unfolded (or the root), the first level kept on screen
+      const top = [...this.positions.entries()].filter(([key]) => key.split('/').length <= 2).map(([, p]) => p.x);
+      const fMin = Math.min(...top) - W / 2 - 12;
+      const fMax = Math.max(...top) + W / 2 + 12;
+      k = Math.max(k, Math.min(MIN_AUTO_SCALE, bw / (fMax - fMin)));
+      const at = (anchor ? this.positions.get(anchor) : undefined) ?? this.positions.get(this.root.id);
+      tx = bw / 2 - k * (at?.x ?? 0);
+      if (k * (fMax - fMin) <= bw) {
+        tx = Math.min(-k * fMin, Math.max(bw - k * fMax, tx));
+      }
     }
     const ty = 8 - k * minY; // top-aligned, as a tree reads
     this.autoFit = true;
@@ -400,7 +413,8 @@ export class Diagram implements FeatureView {
         .attr('data-status', st);
       const n = counts?.features[f.id];
       const rem = counts?.remaining ?? null;
-      g.select('text.count').text(n !== undefined && rem !== null ? `in ${formatCount(n)} (${percent(n, rem)})` : counts ? '…' : '');
+      g.select('text.count').text(n !== undefined && rem !== null
+        ? endEllipsis(`in ${formatCount(n)} (${percent(n, rem)})`, W - 36, COUNT_FONT) : counts ? '…' : '');
       g.select('title').text(`${f.longName}: ${STATUS_WORDS[st]}` + (f.kindText ? `\n${f.kindText}` : '') +
         (n !== undefined && rem !== null ? `\nin ${formatCount(n)} of ${formatCount(rem)} remaining products` : ''));
       g.select('.btn-include title').text(st === 'user-in' ? `Undo: include ${f.name}` : `Include ${f.name}`);
@@ -513,6 +527,17 @@ export class Diagram implements FeatureView {
   get scale(): number {
     return this.currentTransform().k;
   }
+}
+
+/** A box wide enough for most of the model's names (the 90th percentile, 150 to 220 px). */
+function boxWidth(index: FeatureIndex): number {
+  const names = index.order.slice(0, 3000).map((f) => f.name);
+  if (!names.length) {
+    return 150;
+  }
+  const ws = names.map((n) => textWidth(n, NAME_FONT)).sort((a, b) => a - b);
+  const p90 = ws[Math.min(ws.length - 1, Math.floor(ws.length * 0.9))];
+  return Math.round(Math.max(150, Math.min(220, p90 + 46)));
 }
 
 /** Fit / zoom in / zoom out buttons in a corner of a panel. */

@@ -277,8 +277,9 @@ export class GraphView {
     if (!box.width || !box.height || !width || !height) {
       return;
     }
-    const k = Math.max(0.05, Math.min(1.4, (box.width - 24) / width, (box.height - 24) / height));
-    const to = zoomIdentity.translate((box.width - k * width) / 2, (box.height - k * height) / 2).scale(k);
+    const bw = box.width - 40; // the zoom buttons keep the right edge
+    const k = Math.max(0.05, Math.min(1.4, (bw - 24) / width, (box.height - 24) / height));
+    const to = zoomIdentity.translate((bw - k * width) / 2, (box.height - k * height) / 2).scale(k);
     this.autoFit = true;
     this.fitting = true;
     if (animate) {
@@ -357,6 +358,15 @@ export class GraphView {
   }
 
   restyle(): void {
+    // a namespace box all of whose elements the decisions removed is faded too
+    const alive = new Set<string>();
+    for (const e of this.graph.elements) {
+      if (this.status(e.id) !== 'absent' || this.showRemoved) alive.add(`ns:${namespaceOf(e)}`);
+    }
+    this.layer.selectAll<SVGGElement, unknown>('g.namespace').each((_, i, groups) => {
+      const g = select(groups[i]);
+      g.classed('empty', !alive.has(g.attr('data-id')));
+    });
     this.layer.selectAll<SVGGElement, unknown>('g.element, g.edge').each((_, i, groups) => {
       const g = select(groups[i]);
       const id = g.attr('data-id');

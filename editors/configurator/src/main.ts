@@ -724,7 +724,7 @@ async function loadProblems(a: App): Promise<void> {
   }
 }
 
-function defaultView(m: ModelJson, width: number): 'diagram' | 'tree' {
+function defaultView(m: ModelJson, index: FeatureIndex, width: number): 'diagram' | 'tree' {
   const saved = storageGet(`tvl-view:${m.model}`);
   if (saved === 'diagram' || saved === 'tree') {
     return saved;
@@ -732,7 +732,7 @@ function defaultView(m: ModelJson, width: number): 'diagram' | 'tree' {
   if (m.features > TREE_ABOVE) {
     return 'tree';
   }
-  return firstLevelScale(m.tree, width) < MIN_FIRST_LEVEL_SCALE ? 'tree' : 'diagram';
+  return firstLevelScale(index, width) < MIN_FIRST_LEVEL_SCALE ? 'tree' : 'diagram';
 }
 
 async function load(modelPath?: string | null, targets?: Targets | null): Promise<void> {
@@ -764,9 +764,10 @@ async function load(modelPath?: string | null, targets?: Targets | null): Promis
     root.append(header(a, targets ?? null, m), el('main', {}, left, graphPanel, details), bottom,
       el('div', { id: 'toasts', 'aria-live': 'polite' }));
     document.body.dataset.pane = 'features';
+    document.body.classList.toggle('no-launch', !m.launch);
     renderNothing();
     const width = featureBox.getBoundingClientRect().width || window.innerWidth / 2;
-    setView(a, featureBox, defaultView(m, width));
+    setView(a, featureBox, defaultView(m, a.index, width));
     a.applyState(m.state);
     renderProblems(a);
     if (m.state.void) {

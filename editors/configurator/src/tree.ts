@@ -112,11 +112,27 @@ export class TreeView implements FeatureView {
   private render(): void {
     const [first, last] = this.range();
     this.layer.style.transform = `translateY(${first * ROW_H}px)`;
-    const nodes: HTMLElement[] = [];
-    for (let i = first; i < last; i++) {
-      nodes.push(this.row(i));
+    // rows are kept and patched in place: a click that straddles a redraw (a count arriving
+    // between mousedown and mouseup) still lands on the same element
+    const keep = new Map<number, HTMLElement>();
+    for (const node of [...this.layer.children] as HTMLElement[]) {
+      const i = Number(node.dataset.row);
+      if (i >= first && i < last && this.rows[i] && node.dataset.feature === this.rows[i].f.id) {
+        keep.set(i, node);
+      } else {
+        node.remove();
+      }
     }
-    this.layer.replaceChildren(...nodes);
+    let prev: HTMLElement | null = null;
+    for (let i = first; i < last; i++) {
+      const node = keep.get(i) ?? el('div', {});
+      this.fill(node, i);
+      const next: Element | null = prev ? prev.nextElementSibling : this.layer.firstElementChild;
+      if (next !== node) {
+        this.layer.insertBefore(node, next);
+      }
+      prev = node;
+    }
     const ids = this.visibleIds().join('\n');
     if (ids !== this.lastShown) {
       this.lastShown = ids;
@@ -124,7 +140,8 @@ export class TreeView implements FeatureView {
     }
   }
 
-  private row(i: number): HTMLElement {
+  /** Make ``node`` the row of ``this.rows[i]`` (created once, then only patched). */
+  private fill(node: HTMLElement, i: number): void {
     const { f, depth } = this.rows[i];
     const st: FeatureStatus = f.ref ? 'open' : statusOf(this.state, f.id);
     const open = this.expanded.has(f.id);
@@ -134,43 +151,54 @@ export class TreeView implements FeatureView {
     if (f.id === this.selected && !f.ref) cls.push('selected');
     if (this.linked.has(f.id)) cls.push('linked');
     if (f.ref) cls.push('ref');
-    const row = el('div', {
-      class: cls.join(' '), role: 'treeitem', 'data-feature': f.id, 'data-row': String(i), 'data-status': st,
-      'aria-level': String(depth + 1), 'aria-selected': String(f.id === this.selected),
+    node.className = cls.join(' ');
+    const attrs: Record<string, string> = {
+      role: 'treeitem', 'data-feature': f.id, 'data-row': String(i), 'data-status': st, 'aria-level': String(depth + 1),
+      'aria-selected': String(f.id === this.selected),
       title: `${f.longName}: ${STATUS_WORDS[st]}` + (f.kindText ? `\n${f.kindText}` : ''),
-    });
-    row.style.paddingLeft = `${6 + depth * INDENT}px`; // (CSSOM: the page's CSP refuses style attributes)
-    if (hasKids) {
-      row.setAttribute('aria-expanded', String(open));
+    };
+    for (const [k, v] of Object.entries(attrs)) {
+      if (node.getAttribute(k) !== v) node.setAttribute(k, v);
     }
-    row.append(el('span', { class: `twisty${hasKids ? '' : ' leaf'}`, 'data-act': 'toggle', 'aria-hidden': 'true' },
-      hasKids ? (open ? '▾' : '▸') : ''));
-    if (!f.ref) {
-      const inc = el('span', {
-        class: `check inc${st === 'user-in' || st === 'implied-in' ? ' on' : ''}`, role: 'checkbox', 'data-act': 'include',
-        'aria-checked': String(st === 'user-in' || st === 'implied-in'),
-        title: st === 'user-in' ? `Undo: include ${f.name}` : `Include ${f.name}`,
-      }, st === 'user-in' || st === 'implied-in' ? '✓' : '');
-      const exc = el('span', {
-        class: `check exc${st === 'user-out' || st === 'implied-out' ? ' on' : ''}`, role: 'button', 'data-act': 'exclude',
-        title: st === 'user-out' ? `Undo: exclude ${f.name}` : `Exclude ${f.name}`,
-      }, '✕');
-      row.append(inc, exc);
+    if (hasKids) node.setAttribute('aria-expanded', String(open)); else node.removeAttribute('aria-expanded');
+    const indent = this.indent(depth);
+    node.style.paddingLeft = `${6 + indent}px`; // (CSSOM: the page's CSP refuses style attributes)
+    if (!node.firstChild) {
+      node.append(el('span', { class: 'twisty', 'data-act': 'toggle', 'aria-hidden': 'true' }),
+        el('span', { class: 'check inc', role: 'checkbox', 'data-act': 'include' }),
+        el('span', { class: 'check exc', role: 'button', 'data-act': 'exclude' }, '✕'),
+        el('span', { class: 'name' }), el('span', { class: 'tag' }), el('span', { class: 'count' }));
     }
-    const width = Math.max(80, (this.scroller.clientWidth || 400) - 6 - depth * INDENT - 260);
-    row.append(el('span', { class: 'name' }, middleEllipsis(f.name, width, '600 13px system-ui, sans-serif')));
+    const [tw, inc, exc, name, tag, count] = [...node.children] as HTMLElement[];
+    tw.className = `twisty${hasKids ? '' : ' leaf'}`;
+    tw.textContent = hasKids ? (open ? '▾' : '▸') : '';
+    const on = st === 'user-in' || st === 'implied-in';
+    const off = st === 'user-out' || st === 'implied-out';
+    inc.hidden = exc.hidden = Boolean(f.ref);
+    inc.className = `check inc${on ? ' on' : ''}`;
+    inc.setAttribute('aria-checked', String(on));
+    inc.title = st === 'user-in' ? `Undo: include ${f.name}` : `Include ${f.name}`;
+    inc.textContent = on ? '✓' : '';
+    exc.className = `check exc${off ? ' on' : ''}`;
+    exc.title = st === 'user-out' ? `Undo: exclude ${f.name}` : `Exclude ${f.name}`;
+    const width = Math.max(80, (this.scroller.clientWidth || 400) - 6 - indent - 260);
+    name.textContent = middleEllipsis(f.name, width, '600 13px system-ui, sans-serif');
     const tags: string[] = [];
     if (f.kind === 'optional') tags.push('opt');
     if (f.group && f.group.kind !== 'allOf') tags.push(f.group.text);
     if (f.ref) tags.push('shared');
-    if (tags.length) {
-      row.append(el('span', { class: 'tag' }, tags.join(' · ')));
-    }
+    tag.textContent = tags.join(' · ');
     const n = this.counts?.features[f.id];
     const rem = this.counts?.remaining ?? null;
-    row.append(el('span', { class: 'count' }, n !== undefined && rem !== null ? `${formatCount(n)} · ${percent(n, rem)}`
-      : this.counts && this.counts.remaining !== null ? '…' : ''));
-    return row;
+    count.textContent = n !== undefined && rem !== null ? `${formatCount(n)} · ${percent(n, rem)}`
+      : this.counts && this.counts.remaining !== null ? '…' : '';
+  }
+
+  /** The indentation of a level: 16 px a level, less below the tenth, never past 40 % of the
+   * panel (a model 40 levels deep keeps its names on screen). */
+  private indent(depth: number): number {
+    const px = depth <= 10 ? depth * INDENT : 10 * INDENT + (depth - 10) * 4;
+    return Math.min(px, Math.max(60, (this.scroller.clientWidth || 400) * 0.4));
   }
 
   // ------------------------------------------------------------------ input

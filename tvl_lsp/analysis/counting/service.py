@@ -157,7 +157,10 @@ class CNFCounter:
     @property
     def trivially_unsat(self) -> bool:
         """An empty clause (d4 and pyganak settle every other unsatisfiable CNF themselves)."""
-        return any(not c for c in self.clauses)
+        got = self.__dict__.get("_trivially_unsat")
+        if got is None:  # the clauses do not change: looked at once (every click asks)
+            got = self.__dict__["_trivially_unsat"] = any(not c for c in self.clauses)
+        return got
 
     def d4_usable(self) -> bool:
         return self.determined and self.key not in _FAILED
