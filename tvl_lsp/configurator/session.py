@@ -623,13 +623,16 @@ class Session:
         the model configures when no pairing rule names one)."""
         import re
         names = set(self.names) | {f.name for f in self.model.features}
-        arg = re.compile(r"<arg\s[^>]*?name\s*=\s*[\"']([^\"']+)[\"']")
+        tag = re.compile(r"<arg\s[^>]*>")
+        name = re.compile(r"\bname\s*=\s*[\"']([^\"']+)[\"']")
         out = []
         for lf in self.workspace.files.launches[:2000]:
             text = self.read_file(lf)
             if not text:
                 continue
-            args = set(arg.findall(text))
+            # the args a command line sets (no `value`): a configuration launch file fixes them
+            args = {m.group(1) for t in tag.findall(text) if not re.search(r"\bvalue\s*=", t)
+                    for m in [name.search(t)] if m}
             out.append({"path": lf, "relative": self.relative(lf), "args": len(args), "matches": len(args & names)})
         out.sort(key=lambda x: (-x["matches"], x["relative"]))
         return out[:limit]

@@ -161,6 +161,9 @@ class App:
             raise SessionError(f"{launch} is not a launch file of this workspace")
         with self.lock:
             self.pairings[s.model_path] = launch
+            for t in self._targets or []:
+                if t["model"] == s.model_path:
+                    t["launches"] = [launch]
             self.sessions.pop(s.model_path, None)
             self.checks.pop(s.model_path, None)
             self.versions[s.model_path] = self.versions.get(s.model_path, 0) + 1

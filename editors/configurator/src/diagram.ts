@@ -271,16 +271,29 @@ export class Diagram implements FeatureView {
     let k = Math.min(1.2, bw / (maxX - minX), box.height / (maxY - minY));
     let tx = bw / 2 - k * (minX + maxX) / 2;
     if (readable && k < MIN_AUTO_SCALE) {
-      // too wide to read whole: readable, but never so large that the first level is cut; shown
-      // from the feature just unfolded (or the root), the first level kept on screen
-      const top = [...this.positions.entries()].filter(([key]) => key.split('/').length <= 2).map(([, p]) => p.x);
+      // too wide to read whole. After an unfold: readable, centred on what was unfolded (the fit
+      // button shows all of it). Otherwise (on load, on resize): readable, but never so small
+      // that the first level does not fit, nor so large that it is cut
+      const keyOf = (pred: (key: string) => boolean) => [...this.positions.entries()].filter(([key]) => pred(key)).map(([, p]) => p.x);
+      const top = keyOf((key) => key.split('/').length <= 2);
       const fMin = Math.min(...top) - W / 2 - 12;
       const fMax = Math.max(...top) + W / 2 + 12;
-      k = Math.max(k, Math.min(MIN_AUTO_SCALE, bw / (fMax - fMin)));
-      const at = (anchor ? this.positions.get(anchor) : undefined) ?? this.positions.get(this.root.id);
-      tx = bw / 2 - k * (at?.x ?? 0);
-      if (k * (fMax - fMin) <= bw) {
-        tx = Math.min(-k * fMin, Math.max(bw - k * fMax, tx));
+      if (anchor && this.positions.has(anchor)) {
+        k = MIN_AUTO_SCALE;
+        const sub = keyOf((key) => key === anchor || key.startsWith(anchor + '/'));
+        const sMin = Math.min(...sub) - W / 2 - 12;
+        const sMax = Math.max(...sub) + W / 2 + 12;
+        tx = bw / 2 - k * (sMin + sMax) / 2;
+        if (k * (sMax - sMin) > bw) {
+          tx = bw / 2 - k * (this.positions.get(anchor)?.x ?? 0);
+        }
+      } else {
+        k = Math.max(k, Math.min(MIN_AUTO_SCALE, bw / (fMax - fMin)));
+        const at = this.positions.get(this.root.id);
+        tx = bw / 2 - k * (at?.x ?? 0);
+        if (k * (fMax - fMin) <= bw) {
+          tx = Math.min(-k * fMin, Math.max(bw - k * fMax, tx));
+        }
       }
     }
     const ty = 8 - k * minY; // top-aligned, as a tree reads
@@ -295,9 +308,23 @@ export class Diagram implements FeatureView {
     }
   }
 
+  /** Zoom around the selected feature when it is on screen, else around the middle of the top of
+   * the drawing (the tree hangs from there). */
   zoomBy(factor: number): void {
     this.autoFit = false;
-    this.svg.transition().duration(150).call(this.zoom.scaleBy, factor);
+    const box = this.host.getBoundingClientRect();
+    const t = this.currentTransform();
+    let p: [number, number] = [(box.width - CONTROLS_W) / 2, Math.min(box.height / 2, 120)];
+    let sel: { x: number; y: number } | undefined;
+    this.nodeLayer.selectAll<SVGGElement, HierarchyPointNode<ViewNode>>('g.feature').each((d) => {
+      if (d.data.data.id === this.highlighted && !sel) sel = this.positions.get(d.data.key);
+    });
+    if (sel) {
+      const sx = t.applyX(sel.x);
+      const sy = t.applyY(sel.y);
+      if (sx >= 0 && sx <= box.width && sy >= 0 && sy <= box.height) p = [sx, sy];
+    }
+    this.svg.transition().duration(150).call(this.zoom.scaleBy, factor, p);
   }
 
   private buildNode(g: Selection<SVGGElement, unknown, null, undefined>, v: ViewNode): void {

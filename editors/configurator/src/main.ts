@@ -86,7 +86,7 @@ class App implements Page {
   }
 
   async reload(): Promise<void> {
-    await load(this.model.model, this.targets);
+    await load(this.model.model); // the targets again: a pairing chosen on the page changes them
   }
 
   async decide(feature: string, value: boolean | null): Promise<void> {
