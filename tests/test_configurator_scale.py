@@ -131,6 +131,18 @@ def test_a_saved_configuration_loads_back(nav, fmt):
         assert out["state"]["implied"].get("Lidar") is True or got.get("Lidar") is True
 
 
+def test_save_never_overwrites_a_file_that_is_not_a_configuration(nav):
+    urdf = Path(nav.model_path).parent / "robot.xml"
+    urdf.write_text("<robot name='r'/>\n")
+    with pytest.raises(SessionError, match="already exists and is not a configuration"):
+        run(nav, "save", {"Amcl": True}, name="robot", format="featureide")
+    assert urdf.read_text() == "<robot name='r'/>\n"
+    saved, _ = run(nav, "save", {"Amcl": True}, name="again", format="json")
+    Path(saved["path"]).write_text(saved["text"])
+    saved, _ = run(nav, "save", {"Amcl": False}, name="again", format="json")   # a configuration: replaced
+    assert '"Amcl": false' in saved["text"]
+
+
 def test_featureide_formats(nav):
     known = nav.accepted_names()
     xml = ('<?xml version="1.0" encoding="UTF-8" standalone="no"?>\n<configuration>\n'

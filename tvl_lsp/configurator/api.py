@@ -154,6 +154,10 @@ def handle(session: Session, op: str, params: Optional[Mapping[str, Any]],
         name = params.get("name") if isinstance(params.get("name"), str) else ""
         name = name or os.path.splitext(os.path.basename(session.model_path))[0]
         path = os.path.join(os.path.dirname(session.model_path), configs.file_name(name, fmt))
+        existing = session.read_file(path) if os.path.lexists(path) else None
+        if os.path.lexists(path) and (existing is None or not configs.is_configuration(existing, path)):
+            raise SessionError(f"{os.path.basename(path)} already exists and is not a configuration: "
+                               "choose another name (nothing was written)")
         st = session.state(decisions)
         text = configs.render(fmt, session.model_path, session.names, decisions, st["implied"])
         session.known_extra.add(path)

@@ -189,6 +189,18 @@ def _plain(text: str, known: Mapping[str, str]) -> Loaded:
     return out
 
 
+def is_configuration(text: str, path: str) -> bool:
+    """Is this file's text a configuration this module reads (so saving over it loses nothing
+    but an older configuration)?"""
+    try:
+        if format_of(path) == "featureide":
+            return "<configuration" in text[:2000]
+        data = json.loads(text)
+    except ValueError:
+        return False
+    return isinstance(data, dict) and (isinstance(data.get("decisions"), dict) or isinstance(data.get("config"), dict))
+
+
 def listed(folder: str, model_file: str) -> list[dict]:
     """Configuration files in ``folder`` (next to the model): ``{path, name, format}``, newest
     first."""

@@ -159,7 +159,10 @@ class PackageGraph:
                 det["note"] = n["note"]
             if n.get("hints"):
                 det["hints"] = ", ".join(f"{h.get('label', '')}" for h in n["hints"] if h)
-            els.append({"id": n["id"], "kind": "node", "name": n["name"], "label": n["name"].rsplit("/", 1)[-1] or n["name"],
+            label = n["name"].rsplit("/", 1)[-1] or n["name"]
+            if "#" in n["id"]:  # one name, nodes of several types (in different products): say which
+                label += f" ({n.get('type')})"
+            els.append({"id": n["id"], "kind": "node", "name": n["name"], "label": label,
                         "condition": n.get("condition"), "location": _loc16((n.get("locations") or [None])[0]),
                         "details": det})
         for key, kind in (("topics", "topic"), ("services", "service"), ("parameters", "param")):
