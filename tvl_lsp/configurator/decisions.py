@@ -115,17 +115,8 @@ def complete(s: Session, decisions: Mapping[str, bool], how: str = "minimal",
             except (CountTimeout, CountCancelled, ValueError):
                 product = None
         if product is None:
-            import random
             engine = "sat"
-            # no compiled model: a random order of preferences, then any product (not uniform)
-            rng = random.Random(seed)
-            with s._lock:
-                prefs = {n: rng.random() < 0.5 for n in st["open"]}
-                product = s.analysis.find_product(include=inc + [k for k, v in prefs.items() if v],
-                                                  exclude=exc + [k for k, v in prefs.items() if not v],
-                                                  smallest=False)
-                if product is None:
-                    product = s.analysis.find_product(include=inc, exclude=exc, smallest=False)
+            product = _random_product(s, decisions, seed)
     else:
         raise SessionError("complete: how must be minimal or random")
     if product is None:
@@ -137,3 +128,26 @@ def complete(s: Session, decisions: Mapping[str, bool], how: str = "minimal",
     if refusal is not None:  # cannot happen for a product; say so rather than half-complete
         raise SessionError(f"the completion was refused: {refusal.message}")
     return new, {"added": added, "how": how, "engine": engine}
+
+
+def _random_product(s: Session, decisions: Mapping[str, bool], seed: Optional[int]) -> Optional[dict[str, bool]]:
+    """A product respecting ``decisions`` found by a SAT solver whose phases are drawn at random
+    (the model is not compiled: a random product, not a uniform one)."""
+    import random
+
+    from ..analysis.solve import new_solver
+    enc = s.analysis.encoding
+    rng = random.Random(seed)
+    lits = list(_lits(s, decisions))
+    solver = new_solver(enc.clauses())
+    try:
+        try:
+            solver.set_phases([v if rng.random() < 0.5 else -v for v in range(1, enc.n_features + 1)])
+        except NotImplementedError:
+            pass
+        if not solver.solve(assumptions=lits):
+            return None
+        m = solver.get_model()
+    finally:
+        solver.delete()
+    return {enc.name_of(f): m[v - 1] > 0 for f, v in enc.var_of_feature.items()}
