@@ -742,6 +742,9 @@ async function load(modelPath?: string | null, targets?: Targets | null): Promis
       targets = t.kind === 'http' ? await t.request<Targets>('targets') : null;
       modelPath = modelPath ?? targets?.initial ?? undefined;
     }
+    if (targets) {
+      setWhere({ transport: t, roots: targets.roots, model: () => app?.model.model });
+    }
     const m = await t.request<ModelJson>('model', modelPath ? { model: modelPath } : {});
     if (app) app.closed = true;
     const a = new App(m, targets ?? null);
@@ -780,8 +783,14 @@ async function load(modelPath?: string | null, targets?: Targets | null): Promis
     void loadProblems(a);
   } catch (e) {
     root.classList.remove('loading');
-    root.replaceChildren(el('div', { class: 'fatal' }, el('h2', {}, 'The configurator cannot open this workspace'),
-      el('p', {}, (e as Error).message)));
+    const others = (targets?.models ?? []).filter((x) => x.model !== modelPath);
+    const pick = el('select', { id: 'model-picker', 'aria-label': 'another model' });
+    pick.append(el('option', { value: '' }, 'open another model of the workspace…'));
+    others.forEach((x) => pick.append(el('option', { value: x.model }, relative(x.model))));
+    pick.addEventListener('change', () => pick.value && void load(pick.value, targets));
+    root.replaceChildren(el('div', { class: 'fatal' },
+      el('h2', {}, modelPath ? `The configurator cannot open ${relative(modelPath)}` : 'The configurator cannot open this workspace'),
+      el('p', {}, (e as Error).message), others.length ? pick : null));
   }
 }
 
