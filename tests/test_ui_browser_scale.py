@@ -51,7 +51,9 @@ def start(path, *extra, env=None):
     proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(path), "--no-browser", *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     url = proc.stdout.readline().strip()
-    assert url.startswith("http://127.0.0.1:"), proc.stderr.read()
+    if not url.startswith("http://127.0.0.1:"):
+        proc.kill()
+        raise AssertionError(proc.communicate()[1])
     return Ui(proc, url)
 
 
