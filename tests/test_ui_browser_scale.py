@@ -193,7 +193,7 @@ def test_details_follow_every_decision_and_decisions_undo_one_by_one(browser, re
                 pg.wait_for_selector('g.feature[data-feature="Amcl"][data-status="user-in"]')
                 pg.locator("#tab-problems").click()
                 # a rule of the project file, filtered by the decisions
-                assert pg.locator('.problem.rule[data-code="haros-rule"]').count() >= 1
+                pg.wait_for_selector('.problem.rule[data-code="haros-rule"]', timeout=30000)
     finally:
         stop(ui)
 
