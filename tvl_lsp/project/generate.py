@@ -323,11 +323,13 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
                         indent: Optional[str] = None, limit: Optional[int] = None,
                         omit: Iterable[str] = (), dialect: str = "ros1",
                         choices: Optional[Mapping[str, Mapping[str, str]]] = None,
-                        writer: Optional[ConfigWriter] = None) -> list[GeneratedFile]:
+                        writer: Optional[ConfigWriter] = None,
+                        names: Optional[Sequence[str]] = None) -> list[GeneratedFile]:
     """One :class:`GeneratedFile` per product (at most ``limit``), sorted by path.  ``dialect``
     "ros2": ROS 2 files (``.launch.xml``, ``$(find-pkg-share)``, args passed to the include;
     ``choices``: see :func:`ros2_choices`); ``writer``: the launch format to write (default
-    :func:`writer_for` the dialect and the generic file)."""
+    :func:`writer_for` the dialect and the generic file).  ``names``: the file name of each
+    product (a plain name, no folder), instead of one made from its selected features."""
     if package is None and package_dir is None:
         package, package_dir = find_package(generic_path, stop_at=roots)
     w = writer or writer_for(dialect, generic_path)
@@ -352,7 +354,7 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
         else:
             cv = {}
             name = configuration_name(p, features, prefix, omit, w.suffix)
-        path = str(Path(out_dir) / name)
+        path = str(Path(out_dir) / (names[i] if names is not None else name))
         text = w.render(p, features, target, indent, cv, source)
         if roots and not inside(path, roots):
             raise GenerateError(f"{path} would be outside the workspace")
