@@ -141,6 +141,7 @@ def test_textmate_grammar_tests():
     assert proc.stdout.count("run successfuly") == len(list((EXT / "test" / "grammar").glob("*.*")))
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 @pytest.mark.skipif(not _node_ready() or not (EXT / "out" / "extension.js").is_file(),
                     reason=NODE_MISSING + "; and the built extension (npm run package)")
 def test_vscode_client_finds_the_server_or_says_why():
