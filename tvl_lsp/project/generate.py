@@ -213,10 +213,12 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
                         package_dir: Optional[str] = None, prefix: Optional[str] = None,
                         indent: str = "  ", limit: Optional[int] = None,
                         omit: Iterable[str] = (), dialect: str = "ros1",
-                        choices: Optional[Mapping[str, Mapping[str, str]]] = None) -> list[GeneratedFile]:
+                        choices: Optional[Mapping[str, Mapping[str, str]]] = None,
+                        names: Optional[Sequence[str]] = None) -> list[GeneratedFile]:
     """One :class:`GeneratedFile` per product (at most ``limit``), sorted by path.  ``dialect``
     "ros2": ROS 2 files (``.launch.xml``, ``$(find-pkg-share)``, args passed to the include;
-    ``choices``: see :func:`ros2_choices`)."""
+    ``choices``: see :func:`ros2_choices`).  ``names``: the file name of each product (a plain
+    name, no folder), instead of one made from its selected features."""
     if package is None and package_dir is None:
         package, package_dir = find_package(generic_path, stop_at=roots)
     target = include_target(generic_path, package, package_dir, out_dir, dialect)
@@ -235,10 +237,11 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
             named = dict(p)
             named.update({v: True for v in cv.values()})
             name = configuration_name(named, list(features) + list(cv.values()), prefix, omit, ".launch.xml")
-            path = str(Path(out_dir) / name)
+            path = str(Path(out_dir) / (names[i] if names is not None else name))
             text = render_configuration_ros2(p, features, target, indent, cv)
         else:
-            path = str(Path(out_dir) / configuration_name(p, features, prefix, omit))
+            name = names[i] if names is not None else configuration_name(p, features, prefix, omit)
+            path = str(Path(out_dir) / name)
             text = render_configuration(p, features, target, indent)
         if roots and not inside(path, roots):
             raise GenerateError(f"{path} would be outside the workspace")
