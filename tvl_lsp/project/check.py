@@ -123,7 +123,7 @@ FILE_UNREADABLE = _register(
     "workspace")
 FILE_NOT_CHECKED = _register(
     "file-not-checked", Severity.ERROR,
-    "a file named on the command line that --check does not check (not a model, launch file or HAROS project file)",
+    "A file named on the command line that --check does not check (not a model, launch file or HAROS project file).",
     "workspace")
 MODEL_NOT_CHECKABLE = _register(
     "paired-model-invalid", Severity.INFORMATION,
