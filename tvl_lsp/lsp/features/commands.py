@@ -23,7 +23,7 @@ from typing import Any, Optional
 
 from lsprotocol import types
 
-from pygls.exceptions import JsonRpcInvalidParams
+from pygls.exceptions import JsonRpcException, JsonRpcInvalidParams
 
 from ...project.generate import GenerateError, plan_configurations, resolve_folder, ros2_choices
 from ..convert import path_to_uri, uri_to_path
@@ -232,6 +232,31 @@ async def plan(ls, opts: dict):
     return files, out_dir, mode != "one" and len(products) >= limit
 
 
+class RequestFailed(JsonRpcException):
+    """LSP's RequestFailed (-32803): a valid request that could not be done (a file that cannot
+    be written: a link, a full disk...); its message is one line the editor shows."""
+    code = -32803
+
+
+async def write_generated(ls, files, roots: list[str], label: str = "Generate configuration launch files") -> bool:
+    """Write planned configuration files (GeneratedFile) inside ``roots``: through the editor
+    (``workspace/applyEdit``, after checking that no target is a link or a special file) when it
+    can create files, else here (:func:`tvl_lsp.project.generate.write_configurations`: atomic,
+    never through a link).  True when written; raises RequestFailed with a one-line reason."""
+    from ...project.generate import check_configurations, write_configurations
+    try:
+        if can_create(ls):
+            check_configurations(files, roots)
+        else:
+            await ls.run_in_thread(write_configurations, list(files), list(roots))
+            return True
+    except OSError as e:
+        raise RequestFailed(str(e))
+    result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
+        edit=creation_edit(files), label=label))
+    return bool(getattr(result, "applied", False))
+
+
 def creation_edit(files) -> types.WorkspaceEdit:
     changes: list = []
     for f in files:
@@ -249,15 +274,7 @@ async def generate_configurations(ls, opts: dict) -> dict:
     files, out_dir, truncated = await plan(ls, opts)
     if not files:
         return {"files": [], "applied": False, "message": "no product matches the current configuration"}
-    if can_create(ls):
-        result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
-            edit=creation_edit(files), label="Generate configuration launch files"))
-        applied = bool(getattr(result, "applied", False))
-    else:
-        os.makedirs(out_dir, exist_ok=True)
-        for f in files:
-            with open(f.path, "w", encoding="utf-8") as fh:
-                fh.write(f.text)
-        applied = True
+    applied = await write_generated(ls, files, write_roots(ls, files[0].path))
+    if applied and not can_create(ls):
         ls.info(f"tvl-lsp: wrote {len(files)} configuration launch file(s) to {out_dir}")
     return {"files": [f.path for f in files], "applied": applied, "folder": out_dir, "truncated": truncated}
