@@ -201,6 +201,21 @@ def src_parent(folder: str) -> str:
     return folder
 
 
+def package_text(*parts: str) -> str:
+    """The text of a file shipped in the package (``package_text("grammars", "tvl.lark")``),
+    through the bounded reader; from the source tree first (``grammars`` is a link there)."""
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))  # tvl_lsp/
+    for cand in (os.path.join(here, *parts), os.path.join(os.path.dirname(here), *parts)):
+        if is_regular(cand):
+            return read_text(cand)
+    from importlib import resources  # an installed wheel without the link materialised
+    ref = resources.files("tvl_lsp")
+    for part in parts:
+        ref = ref / part
+    with resources.as_file(ref) as p:
+        return read_text(str(p))
+
+
 def read_head_text(path: str, n: int) -> Optional[str]:
     """:func:`read_head` decoded as UTF-8 (undecodable bytes replaced), or None."""
     b = read_head(path, n)

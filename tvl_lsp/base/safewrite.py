@@ -357,6 +357,25 @@ def write_file(path: str, data: Union[str, bytes], within: Optional[Sequence[str
         return d.write(os.path.basename(full), data, replace, mode)
 
 
+def write_output(path: str, text: str) -> str:
+    """A command's ``--output FILE``: a stream the user named (a terminal, a pipe: ``/dev/stdout``,
+    ``/dev/fd/N``, ``/dev/null``) is written as it is; a file is written atomically, never
+    through a link (:func:`write_file`).  Raises WriteError."""
+    full = os.path.normpath(os.path.abspath(path))
+    try:
+        st = os.stat(full)
+    except OSError:
+        st = None
+    if st is not None and (stat.S_ISCHR(st.st_mode) or stat.S_ISFIFO(st.st_mode)):
+        try:
+            with open(full, "w", encoding="utf-8", newline="\n") as fh:  # noqa: raw-write (a stream)
+                fh.write(text)
+        except OSError as exc:
+            raise _wrap(full, exc) from None
+        return full
+    return write_file(full, text.encode("utf-8"))
+
+
 def create_exclusive(path: str, data: bytes, mode: int = 0o600) -> bool:
     """Create ``path`` with ``data`` unless something is there already, atomically (a complete
     temporary file hard-linked into place: a reader never sees it half written).  True when

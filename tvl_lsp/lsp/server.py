@@ -169,6 +169,30 @@ def create_server() -> TvlLanguageServer:
     return server
 
 
+def _stop_on_sigterm(server) -> None:
+    """SIGTERM (an editor or a session manager stopping the server): its worker processes and
+    counting processes are killed with it, at once (they would otherwise notice within a
+    second, or finish a compilation first)."""
+    import signal
+    from ..base.children import kill_all
+    from ..base.pools import kill_processes
+
+    def on_term(signum, frame):
+        for pool in (getattr(server, "_proc_pool", None), getattr(server, "_check_pool", None)):
+            kill_processes(pool)
+        kill_all()
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except Exception:  # (a reentrant write interrupted by the signal)
+                pass
+        os._exit(128 + signal.SIGTERM)
+    try:
+        signal.signal(signal.SIGTERM, on_term)
+    except (ValueError, OSError):  # not the main thread (tests)
+        pass
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] in ("-h", "--help"):
@@ -190,9 +214,15 @@ def main(argv: list[str] | None = None) -> int:
     from ..base.envvars import log_level
     level = log_level()  # (an unknown TVL_LSP_LOG is explained on stderr, not fatal)
     logfile = os.environ.get("TVL_LSP_LOGFILE")
+    stream = None
     if logfile:
-        logging.basicConfig(level=level, filename=logfile,
-                            format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+        from ..base.safewrite import open_append
+        try:  # (a regular file: a FIFO would block the start)
+            stream = open_append(logfile)
+        except OSError as ex:
+            print(f"tvl-lsp: TVL_LSP_LOGFILE: {ex}; logging on stderr", file=sys.stderr)
+    if stream is not None:
+        logging.basicConfig(level=level, stream=stream, format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     else:
         logging.basicConfig(level=level, stream=sys.stderr)
     server = create_server()
@@ -205,6 +235,7 @@ def main(argv: list[str] | None = None) -> int:
     bound_heap()  # big texts come and go as the user types: give their memory back
     if os.environ.get("TVL_LSP_WATCHDOG"):
         start_watchdog(os.environ["TVL_LSP_WATCHDOG"])
+    _stop_on_sigterm(server)
     try:
         if tcp is not None:
             from .transport import serve_tcp

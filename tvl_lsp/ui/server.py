@@ -117,14 +117,18 @@ class App:
             fut = self.checks.get(s.model_path)
             if fut is None:
                 if self.pool is None:
-                    self.pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"))
+                    from ..base.children import watch_parent  # (dies with this server)
+                    self.pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
+                                                    initializer=watch_parent)
                 fut = self.pool.submit(check_files, [s.model_path] + s.launches, s.roots)
                 self.checks[s.model_path] = fut
         return fut
 
     def close(self) -> None:
         from ..analysis.counting.service import cancel_all
-        cancel_all()  # kills the d4 processes of background compilations
+        from ..base.children import kill_all
+        cancel_all()  # cancels background compilations ...
+        kill_all()    # ... and kills every counting process now (d4, pyganak), not at their next poll
         with self.pool_lock:
             self.closed = True
             pool, self.pool = self.pool, None

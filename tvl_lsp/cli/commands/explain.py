@@ -39,7 +39,8 @@ def load_codes() -> dict:
 def doc_text() -> Optional[str]:
     for p in DOC_CANDIDATES:
         if p.is_file():
-            return p.read_text(encoding="utf-8")
+            from ...base.files import read_text_or_none
+            return read_text_or_none(str(p))
     return None
 
 

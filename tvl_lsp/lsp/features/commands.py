@@ -134,9 +134,9 @@ def register(ls) -> None:
         doc = ls.docs.get(uri)
         rss = None
         try:
-            with open("/proc/self/statm") as fh:
-                rss = int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
-        except (OSError, ValueError):
+            from ...base.files import read_head
+            rss = int((read_head("/proc/self/statm", 256) or b"").split()[1]) * os.sysconf("SC_PAGE_SIZE")
+        except (OSError, ValueError, IndexError):
             pass
         return {"text": doc.text if doc else None, "version": doc.version if doc else None,
                 "rss": rss, "documents": len(ls.docs), "cache": len(ls.cache),
