@@ -235,7 +235,7 @@ async def plan(ls, opts: dict):
 class RequestFailed(JsonRpcException):
     """LSP's RequestFailed (-32803): a valid request that could not be done (a file that cannot
     be written: a link, a full disk...); its message is one line the editor shows."""
-    code = -32803
+    CODE = -32803
 
 
 async def write_generated(ls, files, roots: list[str], label: str = "Generate configuration launch files") -> bool:
