@@ -188,13 +188,18 @@ def compile_inprocess(nvars: int, clauses: Sequence[Sequence[int]], options: Opt
     import py_d4
     import signal
     old = None
-    if interruptible and threading.current_thread() is threading.main_thread():
-        old = signal.signal(signal.SIGINT, signal.SIG_DFL)
+    if threading.current_thread() is threading.main_thread():
+        # SIGTERM (and, ``interruptible``, Ctrl-C) ends the process during the compilation: d4
+        # does not return to Python for a handler to run (and there is nothing to clean up)
+        old = (signal.signal(signal.SIGINT, signal.SIG_DFL) if interruptible else None,
+               signal.signal(signal.SIGTERM, signal.SIG_DFL))
     try:
         return _compile_inprocess(py_d4, nvars, clauses, options)
     finally:
         if old is not None:
-            signal.signal(signal.SIGINT, old)
+            if old[0] is not None:
+                signal.signal(signal.SIGINT, old[0])
+            signal.signal(signal.SIGTERM, old[1])
 
 
 def _no_vars(clauses) -> tuple[str, int]:
