@@ -64,6 +64,7 @@ class WriteError(OSError):
         super().__init__(err or 0, reason)
         self.path = path
         self.reason = reason
+        self.written: list[str] = []  # (several files: those written, complete, before this one failed)
 
     def __str__(self) -> str:
         return f"cannot write {self.path}: {self.reason}"
@@ -314,7 +315,14 @@ def write_files(folder: str, files: Mapping[str, Union[str, bytes]],
         for name in files:
             d.check(name)
         d.sweep()
-        return [d.write(name, data) for name, data in files.items()]
+        done: list[str] = []
+        try:
+            for name, data in files.items():
+                done.append(d.write(name, data))
+        except WriteError as exc:
+            exc.written = done
+            raise
+        return done
 
 
 def write_paths(paths: Mapping[str, Union[str, bytes]], within: Optional[Sequence[str]] = None) -> list[str]:
@@ -328,8 +336,21 @@ def write_paths(paths: Mapping[str, Union[str, bytes]], within: Optional[Sequenc
         check_paths([os.path.join(folder, n) for n in files], within)
     out: list[str] = []
     for folder, files in by_folder.items():
-        out.extend(write_files(folder, files, within))
+        try:
+            out.extend(write_files(folder, files, within))
+        except WriteError as exc:
+            exc.written = out + exc.written
+            raise
     return out
+
+
+def summary(exc: WriteError, total: int) -> str:
+    """The error's line, with how many of ``total`` files were written before it."""
+    done = len(getattr(exc, "written", []) or [])
+    if total <= 1:
+        return str(exc)
+    return f"{exc} ({done} of {total} files were written, each complete; the others were not)" if done else \
+        f"{exc} (none of the {total} files was written)"
 
 
 def check_paths(paths: Iterable[str], within: Optional[Sequence[str]] = None) -> None:

@@ -161,6 +161,28 @@ class IncludeFact:
     package: Optional[str] = None
     children: list["IncludeFact"] = field(default_factory=list)
     namespace: str = "/"
+    outside: bool = False      # outside the workspace: not read (:func:`outside_reach`)
+
+
+def outside_reach(path: str, reach) -> bool:
+    """The one rule for includes outside the workspace, in every command (``--check``, the
+    editor, ``tvl-lsp launch``, ``graph``, the configurator): a launch analysis reads a file
+    only when it lies -- once its symbolic links are resolved -- in its *reach*: the workspace
+    and the folders of the packages ``$(find)`` / ``$(find-pkg-share)`` resolve to (see
+    docs/architecture.md, "Includes outside the workspace").  True for an existing file outside
+    it (a missing one is ``include-not-found``'s business)."""
+    import os
+    from ..base.files import inside
+    return reach is not None and os.path.lexists(path) and not inside(path, reach)
+
+
+def outside_message(shown_name: str, path: str) -> str:
+    """``include-outside-workspace``'s message."""
+    import os
+    how = " (it is a symbolic link to a file outside it)" if os.path.islink(path) else ""
+    return (f"'{shown_name}' is outside the workspace{how}: tvl-lsp does not read files outside the workspace "
+            "and its packages, so what it starts is not analysed, listed or drawn (move it into a package of "
+            "the workspace, or open the workspace that holds it)")
 
 
 @dataclass

@@ -268,7 +268,11 @@ def write_configurations(files: Iterable, roots: Sequence[str]) -> list[str]:
         texts[path] = text
     if not roots:
         raise WriteError(next(iter(texts), "?"), "no workspace folder to write in")
-    return write_paths(texts, within=list(roots))
+    try:
+        return write_paths(texts, within=list(roots))
+    except WriteError as exc:
+        exc.total = len(texts)  # (for safewrite.summary)
+        raise
 
 
 def check_configurations(files: Iterable, roots: Sequence[str]) -> None:

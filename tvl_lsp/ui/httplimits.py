@@ -77,9 +77,9 @@ def os_status(e: OSError) -> int:
 
 
 def os_message(e: OSError) -> str:
-    from ..base.safewrite import WriteError, reason
+    from ..base.safewrite import WriteError, reason, summary
     if isinstance(e, WriteError):
-        return str(e)
+        return summary(e, getattr(e, "total", 1))
     where = getattr(e, "filename", None)
     return f"cannot write {where}: {reason(e)}" if where else f"cannot write: {reason(e)}"
 

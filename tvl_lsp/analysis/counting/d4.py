@@ -105,16 +105,23 @@ def memory_plan(limit: Optional[int], in_use: int) -> Optional[dict]:
     return {"cache": {"bucket": {"sizeFirstPage": str(first), "sizeAdditionalPage": str(max(MB, first // 8))}}}
 
 
-def inprocess_ok() -> bool:
-    """May d4 run in this process?  Only with room for its defaults (no limit, or a generous
-    one): under a tight limit a failed allocation inside d4 is a crash, not an exception."""
+def inprocess_plan(tiny: bool = False) -> tuple[bool, Optional[dict]]:
+    """May d4 run in this process, and with which cache options?  With room for its defaults
+    (no limit, or a generous one): yes.  Under a tighter limit only a ``tiny`` CNF (its cache
+    never outgrows a small first page), with pages sized to the room; otherwise no: a failed
+    allocation inside d4 is a crash, not an exception (a child process is used)."""
     limit = address_limit()
     if limit is None:
-        return True
+        return True, None
     try:
-        return memory_plan(limit, _in_use()) is None
+        plan = memory_plan(limit, _in_use())
     except EngineFailed:
-        return False
+        return False, None
+    return (True, None) if plan is None else (tiny, plan if tiny else None)
+
+
+def inprocess_ok(tiny: bool = False) -> bool:
+    return inprocess_plan(tiny)[0]
 
 
 def check_room() -> None:
@@ -177,14 +184,16 @@ def _raise_own_limits() -> None:
 
 
 def compile_inprocess(nvars: int, clauses: Sequence[Sequence[int]], options: Optional[dict] = None,
-                      interruptible: bool = False) -> tuple[str, int]:
+                      interruptible: bool = False, tiny: bool = False) -> tuple[str, int]:
     """(NNF text, model count over variables 1..nvars) of the CNF (d4 in this process; fd 1
     silenced meanwhile).  ``interruptible`` (main thread of a command-line process only): Ctrl-C
     ends the process during the compilation (d4 does not return to Python to see it)."""
     if nvars == 0:  # d4 dies of a floating point exception on a CNF without variables
         return _no_vars(clauses)
-    if not inprocess_ok():
-        raise EngineFailed("d4 does not run in a process with a memory limit (use a child process)")
+    ok, plan = inprocess_plan(tiny)
+    if not ok:
+        raise EngineFailed("d4 does not run in a process with a tight memory limit (use a child process)")
+    options = _merge(options, plan)
     import py_d4
     import signal
     old = None

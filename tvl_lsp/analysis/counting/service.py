@@ -184,10 +184,10 @@ class CNFCounter:
                 small = self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES
                 tiny = self.nvars <= INPROCESS_BUDGETED_VARS and len(self.clauses) <= 10 * INPROCESS_BUDGETED_VARS
                 from .d4 import inprocess_ok
-                if (tiny or (timeout is None and cancel is None and (self.inprocess or small))) and inprocess_ok():
+                if (tiny or (timeout is None and cancel is None and (self.inprocess or small))) and inprocess_ok(tiny):
                     from .d4 import compile_inprocess
                     text, n = compile_inprocess(self.nvars, self.clauses, self.d4_options,
-                                                interruptible=self.inprocess)
+                                                interruptible=self.inprocess, tiny=tiny)
                     DISK.put(self.key, text, n)
                 else:  # (under a memory limit always here: d4 sizes itself to its own limits)
                     from .d4 import compile_cnf

@@ -115,7 +115,10 @@ def main(argv: list[str]) -> int:
     try:  # atomic, never through a link, inside the workspace (tvl_lsp.base.safewrite)
         written = write_configurations(files, [root])
     except OSError as ex:
-        print(f"tvl-lsp generate: {ex}", file=sys.stderr)
+        from ...base.safewrite import WriteError, summary
+        for p in getattr(ex, "written", []):
+            print(p)
+        print(f"tvl-lsp generate: {summary(ex, len(files)) if isinstance(ex, WriteError) else ex}", file=sys.stderr)
         return 2
     for p in written:
         print(p)

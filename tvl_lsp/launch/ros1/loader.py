@@ -28,7 +28,7 @@ from typing import Iterable, Mapping, Optional
 from ...base.formula import FALSE, TRUE, Formula, Var, disj, neg, variables
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import LineIndex, Span
-from ...base.files import inside, is_regular, read_text_or_none
+from ...base.files import inside, is_regular, model_workspace, read_text_or_none
 from . import subst as S
 from ..model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
                     ParamFact, Subst)
@@ -67,9 +67,10 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
         self.read_file = read_file
         self.env = env
         self.packages = dict(packages) if packages is not None else find_packages(workspace_root)
-        # the symbolic walk (--check, the editor) reads files inside the workspace and its
-        # packages only: a file elsewhere is never read, so never quoted in a diagnostic
-        self.confine = ([workspace_root] + list(self.packages.values())) if workspace_root and not concrete else None
+        # every walk (symbolic: --check, the editor, graph, the configurator; concrete: tvl-lsp
+        # launch) reads files inside the workspace and its packages only: a file elsewhere is
+        # never read, so never quoted in a diagnostic (model.outside_reach: the one rule)
+        self.confine = ([workspace_root] + list(self.packages.values())) if workspace_root else None
         self.facts: list[ErrorFact] = []
         self.nodes: list[NodeFact] = []
         self.params: list[ParamFact] = []
@@ -105,8 +106,8 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
 
     # ---------------------------------------------------------------- files
 
-    def read(self, path: str) -> Optional[str]:
-        if self.confine is not None and not inside(path, self.confine):
+    def read(self, path: str, confined: bool = True) -> Optional[str]:
+        if confined and self.confine is not None and not inside(path, self.confine):
             return None
         if self.read_file is not None:
             try:
@@ -348,7 +349,7 @@ def arg_uses(text: str, path: str, names: Iterable[str], workspace_root: Optiona
     if not names:
         return typing
     if workspace_root is None and packages is None and os.path.isabs(path):
-        workspace_root = guess_workspace_root(path)
+        workspace_root = guess_workspace_root(path) or model_workspace(path)
     w = Walker(concrete=False, workspace_root=workspace_root, read_file=read_file,
                env=os.environ if env is None else env, packages=packages, typing=typing)
     try:
@@ -391,7 +392,7 @@ def analyse_launch(text: str, path: str, workspace_root: Optional[str] = None, r
     ``alone``: the file is checked without a model (default: when ``features`` is None).
     """
     if workspace_root is None and packages is None and os.path.isabs(path):
-        workspace_root = guess_workspace_root(path)
+        workspace_root = guess_workspace_root(path) or model_workspace(path)
     w = Walker(concrete=False, workspace_root=workspace_root, read_file=read_file,
                env=os.environ if env is None else env, packages=packages)
     # checked alone, the command line is how the file is meant to be run: an undeclared
@@ -494,9 +495,10 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
         for d in reversed([x for x in env.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if x]):
             packages.update(find_packages(d))
         packages.update(find_packages(workspace_root))
-    w = Walker(concrete=True, workspace_root=workspace_root, read_file=read_file, env=env, packages=packages)
+    w = Walker(concrete=True, workspace_root=workspace_root or model_workspace(path), read_file=read_file, env=env,
+               packages=packages)
     if text is None:
-        text = w.read(path)
+        text = w.read(path, confined=False)  # (the file named on the command line, wherever it is)
         if text is None:
             return LoadResult([], {}, [], [], f"[Errno 2] No such file or directory: '{path}'", "file-not-found")
     # roslaunch takes the command line as ROS remappings: some name:=value pairs never reach it
@@ -539,7 +541,8 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
 
     def inc_tree(incs: list[IncludeFact]) -> list[dict]:
         return [dict(file=i.file, followed=i.followed, namespace=i.namespace, package=i.package,
-                     includes=inc_tree(i.children)) for i in incs if i.condition == TRUE]
+                     includes=inc_tree(i.children), **({"outside": True} if i.outside else {}))
+                for i in incs if i.condition == TRUE]
 
     remaps = []
     for n in nodes:

@@ -84,9 +84,9 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.env = env
         self.read_file = read_file
         self.root = workspace_root
-        # the symbolic walk reads files inside the workspace and its packages only (see ros1)
+        # every walk reads files inside the workspace and its packages only (see ros1)
         self.confine = ([workspace_root] + list(self.packages.values()) + list(self.installed.values())
-                        if workspace_root and not concrete else None)
+                        if workspace_root else None)
         self.stub = stub_packages
         self.facts: list[ErrorFact] = []
         self.nodes: list[Node2Fact] = []
@@ -139,8 +139,8 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.noted.add(key)
         self.facts.append(LaunchFact(code, severity, message, path, span, TRUE, []))
 
-    def read(self, path: str) -> Optional[str]:
-        if self.confine is not None and not inside(path, self.confine):
+    def read(self, path: str, confined: bool = True) -> Optional[str]:
+        if confined and self.confine is not None and not inside(path, self.confine):
             return None
         if self.read_file is not None:
             try:

@@ -251,7 +251,8 @@ async def write_generated(ls, files, roots: list[str], label: str = "Generate co
             await ls.run_in_thread(write_configurations, list(files), list(roots))
             return True
     except OSError as e:
-        raise RequestFailed(str(e))
+        from ...base.safewrite import WriteError, summary
+        raise RequestFailed(summary(e, len(files)) if isinstance(e, WriteError) else str(e))
     result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
         edit=creation_edit(files), label=label))
     return bool(getattr(result, "applied", False))
