@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from tvl_lsp.lsp.features import commands as server_commands
+from tvl_lsp.lsp.features import commands as server_commands, explain
 from tvl_lsp.lsp.checks import file_kind
 from tvl_lsp.lsp.settings import Settings
 
@@ -77,7 +77,7 @@ def test_diagnostic_severity_values_match_the_server():
 
 def test_the_clients_call_server_commands_that_exist():
     server = {server_commands.INCLUDE, server_commands.EXCLUDE, server_commands.RESET,
-              server_commands.COUNT, server_commands.LIST, server_commands.GENERATE}
+              server_commands.COUNT, server_commands.LIST, server_commands.GENERATE, explain.EXPLAIN}
     src = (EXT / "src" / "extension.ts").read_text()
     called = set(re.findall(r"'(tvl-lsp\.[A-Za-z]+)'", src)) - {"tvl-lsp.running", "tvl-lsp.server"}
     assert called, "extension.ts calls no server command"

@@ -1,5 +1,6 @@
 """Hover: features (in the model, or as ``<arg>`` / ``$(arg X)`` in a launch file) with their
-product counts; the root with the total; launch elements with their presence condition."""
+product counts; the root with the total; launch elements with their presence condition; inside a
+diagnostic's range, its code's page from the diagnostics catalogue (``explain.py``)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from pathlib import Path
 from lsprotocol import types
 
 from ..convert import from_lsp_position, to_lsp_range
+from .explain import hover_notes
 from ...tvl import model as M
 from ...project import facts as F
 from ...project.facts import MODEL_KINDS
@@ -27,6 +29,11 @@ def register(ls) -> None:
             md, span = await tvl_hover(ls, doc.path, pos)
         else:
             md, span = await launch_hover(ls, doc, pos)
+        # inside a diagnostic's range: its code's page from the catalogue (lsp/features/explain.py)
+        notes, note_span = hover_notes(ls, params.text_document.uri, doc.path, pos)
+        if notes:
+            md = f"{md}\n\n---\n\n{notes}" if md else notes
+            span = span if span is not None else note_span
         if not md:
             return None
         rng = to_lsp_range(doc.index, span, ls.encoding) if span is not None else None
