@@ -75,3 +75,15 @@ async def test_generate_refuses_a_link_with_an_error_message(client: LanguageCli
     assert (client.ws / ".git" / "config").read_text() == before
     assert len(client.applied_edits) == n_edits
     assert sorted(p.name for p in configs.iterdir()) == listing  # nothing written
+
+
+async def test_the_generate_code_action_refuses_a_link_too(client: LanguageClient):
+    launch = client.ws / "src" / "turtlerand" / "launch" / "generic.launch"
+    configs = client.ws / "src" / "turtlerand" / "configs"
+    configs.mkdir(exist_ok=True)
+    victim = configs / "generic_turtlesim.launch"
+    if not victim.is_symlink():
+        victim.symlink_to(Path("../../../.git/config"))
+    action = types.CodeAction(title="generate", data={"tvl-lsp.generate": {"uri": launch.as_uri(), "mode": "all"}})
+    with pytest.raises(Exception, match="symbolic link"):
+        await client.code_action_resolve_async(action)

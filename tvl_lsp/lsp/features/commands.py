@@ -258,6 +258,18 @@ async def write_generated(ls, files, roots: list[str], label: str = "Generate co
     return bool(getattr(result, "applied", False))
 
 
+def check_targets(ls, files) -> None:
+    """Raise RequestFailed when a planned file could not be written safely (a symbolic link, a
+    FIFO, a folder that is a link): before an edit that lets the editor write them."""
+    from ...project.generate import check_configurations
+    if not files:
+        return
+    try:
+        check_configurations(files, write_roots(ls, files[0].path))
+    except OSError as e:
+        raise RequestFailed(str(e))
+
+
 def creation_edit(files) -> types.WorkspaceEdit:
     changes: list = []
     for f in files:
