@@ -124,7 +124,7 @@ def plant_special(ws: Path, rng: random.Random) -> list[str]:
 
 
 def attack_special_files(tmp: Path, rng: random.Random) -> None:
-    ws = tmp / "ws-special"
+    ws = Path(tempfile.mkdtemp(prefix="ws-special-", dir=tmp)) / "ws"
     shutil.copytree(EXAMPLE, ws)
     planted = plant_special(ws, rng)
     generic = ws / "src" / "turtlerand" / "launch" / "generic.launch"
@@ -162,7 +162,7 @@ def attack_special_files(tmp: Path, rng: random.Random) -> None:
 # ------------------------------------------------------------------ links and generate
 
 def many_ws(tmp: Path, name: str) -> Path:
-    ws = tmp / name
+    ws = Path(tempfile.mkdtemp(prefix=name + "-", dir=tmp)) / "ws"
     shutil.copytree(MANY, ws)
     (ws / ".git").mkdir()
     (ws / ".git" / "config").write_text("[core]\n")
@@ -189,14 +189,15 @@ def attack_links(tmp: Path, rng: random.Random) -> None:
     want = expected_files(ws, tmp)
     generic = ws / "src/many/launch/generic.launch"
     configs = ws / "src/many/configs"
-    outside = tmp / "outside-links"
+    outside = ws.parent / "outside"
     outside.mkdir()
     sentinel = (ws / ".git/config").read_text()
-    for trial in range(4):
-        shutil.rmtree(configs, ignore_errors=True)
+    kinds = ["file-link", "folder-link", "dotdot-link", "race"]
+    rng.shuffle(kinds)
+    for kind in kinds:
         if configs.is_symlink():
             configs.unlink()
-        kind = rng.choice(["file-link", "folder-link", "dotdot-link", "race"])
+        shutil.rmtree(configs, ignore_errors=True)
         if kind == "file-link":
             configs.mkdir()
             (configs / rng.choice(sorted(want))).symlink_to(Path("../../../.git/config"))

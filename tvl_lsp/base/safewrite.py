@@ -164,10 +164,12 @@ class Folder:
         if mode is None:
             mode = stat.S_IMODE(old.st_mode) if old is not None else 0o666  # (umask applies to a new file)
         tmp = f"{TMP_PREFIX}{os.getpid()}-{secrets.token_hex(6)}{TMP_SUFFIX}"
-        created = False
+        # (True from before the open: a signal handler's exception can come between the open and
+        # the next statement; unlinking a name that does not exist, or no longer, is harmless --
+        # the random part makes it this call's own)
+        created = True
         try:
             fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | _NOFOLLOW | _CLOEXEC, mode, dir_fd=self.fd)
-            created = True
             try:
                 if old is not None or mode != 0o666:
                     try:
@@ -183,6 +185,9 @@ class Folder:
                 os.close(fd)
             os.replace(tmp, name, src_dir_fd=self.fd, dst_dir_fd=self.fd)
             created = False
+        except FileExistsError as exc:  # (the random name taken: not this call's file)
+            created = False
+            raise _wrap(target, exc) from None
         except OSError as exc:
             raise _wrap(target, exc) from None
         finally:
