@@ -230,7 +230,9 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
     debug: { command: how.command, args: how.args },
   };
   const watcher = vscode.workspace.createFileSystemWatcher(
-    '**/{*.tvl,*.launch,*.launch.xml,*.test,*.yaml,*.yml,package.xml}',
+    '**/{*.tvl,*.launch,*.launch.xml,*.test,*.yaml,*.yml,package.xml,' +
+      // the nodes' sources: what they publish and subscribe to is read from them (the graph)
+      '*.cpp,*.cc,*.cxx,*.h,*.hpp,*.hh,*.py,CMakeLists.txt,setup.cfg}',
   );
   context.subscriptions.push(watcher);
   const clientOptions: LanguageClientOptions = {
@@ -241,6 +243,11 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
       { scheme: 'file', language: 'xml', pattern: '**/*{.launch,.launch.xml,_launch.xml,.test}' },
       // ROS 2 launch files in YAML (the yaml language keeps its highlighting)
       { scheme: 'file', language: 'yaml', pattern: '**/*{.launch.yaml,.launch.yml,_launch.yaml,_launch.yml}' },
+      // the nodes' C++ and Python sources: editing one updates the graph and its findings; a
+      // hover on a topic name says where the node runs and who is on the other end
+      { scheme: 'file', language: 'cpp' },
+      { scheme: 'file', language: 'c' },
+      { scheme: 'file', language: 'python' },
     ],
     synchronize: { fileEvents: watcher },
     initializationOptions: { [SECTION]: serverSettings() },

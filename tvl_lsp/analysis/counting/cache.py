@@ -370,7 +370,7 @@ class DiskCache:
         written by :meth:`put_blob`), or None (absent, unreadable, not sealed by us, no cache)."""
         return self._read_entry(name, BLOB_MAX_BYTES)
 
-    def put_blob(self, name: str, data: bytes) -> Optional[Path]:
+    def put_blob(self, name: str, data: bytes, evict: bool = True) -> Optional[Path]:
         """Store ``data`` under ``name``, sealed and atomically (a unique temporary file renamed
         into place: a reader sees the old file, the new one or none, never a part), then keep
         the folder within its bound.  Never raises on a disk error (the cache is an
@@ -378,7 +378,7 @@ class DiskCache:
         if len(data) > BLOB_MAX_BYTES:
             return None
         p = self._write_entry(name, data)
-        if p is not None:
+        if p is not None and evict:  # (a caller writing many calls evict() once at the end)
             self.evict()
         return p
 
