@@ -125,7 +125,7 @@ class IncludeRules:
                       el, self.aspan(el, "file"), c, severity=W)
             el.unresolved = True
             return
-        if outside_reach(path, self.confine):  # one rule in every command (docs/architecture.md)
+        if outside_reach(path, self.reach):  # one rule in every command (docs/architecture.md)
             inc.outside = True
             el.unresolved = True
             self.fact(INCLUDE_OUTSIDE, outside_message(shown(fname), path), el, self.aspan(el, "file"), c,

@@ -28,8 +28,9 @@ from typing import Iterable, Mapping, Optional
 from ...base.formula import FALSE, TRUE, Formula, Var, disj, neg, variables
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import LineIndex, Span
-from ...base.files import inside, is_regular, model_workspace, read_text_or_none
+from ...base.files import is_regular, model_workspace, read_text_or_none
 from . import subst as S
+from ..model import Reach
 from ..model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
                     ParamFact, Subst)
 from ..packages import find_packages, guess_workspace_root
@@ -71,6 +72,7 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
         # launch) reads files inside the workspace and its packages only: a file elsewhere is
         # never read, so never quoted in a diagnostic (model.outside_reach: the one rule)
         self.confine = ([workspace_root] + list(self.packages.values())) if workspace_root else None
+        self.reach = Reach(self.confine) if self.confine is not None else None
         self.facts: list[ErrorFact] = []
         self.nodes: list[NodeFact] = []
         self.params: list[ParamFact] = []
@@ -107,7 +109,7 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
     # ---------------------------------------------------------------- files
 
     def read(self, path: str, confined: bool = True) -> Optional[str]:
-        if confined and self.confine is not None and not inside(path, self.confine):
+        if confined and self.reach is not None and self.reach.outside(path):
             return None
         if self.read_file is not None:
             try:

@@ -45,7 +45,7 @@ class IncludeRules:
                           el.path, span, c, W)
                 el.unresolved = True
                 continue
-            if outside_reach(path, self.confine):  # one rule in every command (docs/architecture.md)
+            if outside_reach(path, self.reach):  # one rule in every command (docs/architecture.md)
                 inc.outside = True
                 el.unresolved = True
                 self.fact(INCLUDE_OUTSIDE, outside_message(shown(f), path), el.path, span, c, W)
