@@ -27,6 +27,9 @@ class Subst:
     args: tuple[str, ...]
     span: Span
     attr: str
+    # the exact range of the argument name (X of ``$(var X)``, the 'x' of a Python
+    # ``LaunchConfiguration('x')``) when the front end knows it; None: find it in the text
+    name_span: Optional[Span] = None
 
 
 @dataclass(eq=False)

@@ -29,6 +29,8 @@ class IncludeRules:
             inc = IncludeFact(el, shown(f), c, False)
             self.includes.append(inc)
             if UNRESOLVED in f or OPAQUE in f:
+                if self.concrete:
+                    self.decline(el.path, span, "tvl-lsp cannot know which file this include loads", c)
                 el.unresolved = True
                 m = re.search(UNRESOLVED + "([^" + UNRESOLVED + "]*)" + UNRESOLVED, f)
                 inc.package = m.group(1) if m else None
@@ -50,29 +52,39 @@ class IncludeRules:
                 if src is not None:
                     path = inc.file = src
                     u = self.unit(path)
-            if u is None and path.endswith(".py") and self.concrete:
-                u = Unit(path, None, [], [], python=True)
             if u is None and not self.concrete and not self.in_workspace(path):
                 el.unresolved = True   # e.g. an installed package's file: not on this machine
                 continue
             if u is None:
                 ext = _extension(path)
                 err = f"[Errno 2] No such file or directory: '{path}'"
+                if getattr(a, "source_kind", "any") != "any":   # Python's XML/Python...Source: one loader
+                    launch = ("FileNotFoundError", err)
+                else:
+                    launch = ("InvalidLaunchFileError", f"Caught multiple exceptions when trying to load file of "
+                              f"format [{ext}]:\n - FileNotFoundError: {err}\n - FileNotFoundError: {err}")
                 self.fact(INCLUDE_NOT_FOUND, f"the included file {path} does not exist", el.path, span, c,
-                          launch=("InvalidLaunchFileError",
-                                  f"Caught multiple exceptions when trying to load file of format [{ext}]:\n"
-                                  f" - FileNotFoundError: {err}\n - FileNotFoundError: {err}"))
+                          launch=launch)
                 continue
-            if u.python or path.endswith(".py"):
+            kind = getattr(a, "source_kind", "any")   # Python's XMLLaunchDescriptionSource(...) ...
+            if (kind == "py") != path.endswith(".py") and kind != "any":
+                self.decline(el.path, span, f"a {kind.upper()} launch description source of the file "
+                             f"{os.path.basename(path)}: tvl-lsp does not model how launch fails on it", c)
+                if not self.concrete:
+                    sc.opaque = disj([sc.opaque, c])
+                el.unresolved = True
+                continue
+            if u.python:
+                # a Python launch file whose launch description tvl-lsp cannot know
                 if path not in self.python_includes:
                     self.python_includes.append(path)
+                reason, dpath, dspan = getattr(u, "decline", None) or ("tvl-lsp does not execute it", path, None)
+                where = f" (line {dspan.start.line + 1})" if dspan is not None else ""
+                msg = (f"tvl-lsp cannot analyse the Python launch file {os.path.basename(path)}{where}: {reason}; "
+                       "the nodes it starts and the args it sets are not known")
                 if self.concrete:
-                    self.fact(PYTHON_INCLUDE, f"{path} is a Python launch file: tvl-lsp does not execute it; what "
-                              "it starts and everything after it is not known", el.path, span, c, E,
-                              launch=("NotAnalysed", f"Python launch file not executed: {path}"))
-                self.fact(PYTHON_INCLUDE, f"{os.path.basename(path)} is a Python launch file: tvl-lsp does not "
-                          "execute it, so the nodes it starts and the args it sets are not analysed", el.path, span,
-                          c, I)
+                    self.fact(PYTHON_INCLUDE, msg, el.path, span, c, E, launch=("NotAnalysed", msg))
+                self.fact(PYTHON_INCLUDE, msg, el.path, span, c, I)
                 sc.opaque = disj([sc.opaque, c])
                 el.unresolved = True
                 inc.followed = False

@@ -62,6 +62,8 @@ PYTHON_INCLUDE = _reg("python-launch-include", I, "An <include> of a Python laun
 ARG_LEAK = _reg("include-arg-leak", W, "An arg set by an <include> leaks out and changes a later element (ROS 2)")
 PARAM_FILE_NOT_FOUND = _reg("param-file-not-found", W, "<param from=...> names a file that does not exist (ROS 2)")
 LAUNCH_PARSE = _reg("invalid-launch-file", E, "ros2 launch refuses to load the file (ROS 2)")
+NOT_ANALYSABLE = _reg("launch-not-analysable", I, "A part of a launch file tvl-lsp cannot know without running it "
+                      "(analysis stops there)")
 
 MAX_CASES = 64
 MAX_INCLUDE_DEPTH = 12
@@ -116,6 +118,7 @@ class Node2Fact(NodeFact):
     params: dict = field(default_factory=dict)
     param_files: list = field(default_factory=list)
     source: str = ""
+    event: Optional[str] = None     # started by an event handler (OnProcessExit ...), not by the launch
 
 
 def fvars(f: Formula) -> set[str]:
