@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
+from ...base.diagnostics import Severity, register
 from ...base.formula import FALSE, TRUE, conj, disj, neg
 from ..model import Attr, Element
 from ..ros2 import actions as A
@@ -27,6 +28,8 @@ from ..ros2.frontend import substitutions_of
 from .values import Decline, Func, LaunchCtx, PyError, Unknown
 
 MAX_WORLDS = 32
+PYTHON_ERROR = register("python-error", Severity.ERROR, "Python code of a launch file raises an exception when "
+                        "ros2 launch runs it", "launch")
 
 
 def declined(w, el: Element, sc, cond, where, reason: str) -> None:
@@ -159,8 +162,14 @@ class OpaqueA(A.Action):
                 worlds.extend(world.pending)
                 continue
             except PyError as e:
-                declined(w, el, sc, world.guard, e.where, f"in the OpaqueFunction {fn.name}(): Python would raise "
-                         f"{e.kind}: {e.message}")
+                if e.sure:
+                    # the function raises, launch fails there
+                    where = e.where if e.where is not None and e.where[0] == el.path else (el.path, el.tag_span)
+                    w.fact(PYTHON_ERROR, f"the OpaqueFunction {fn.name}() raises {e.kind}: {e.message} (ros2 launch "
+                           "fails here)", el.path, where[1], world.guard, launch=(e.kind, e.message))
+                else:
+                    declined(w, el, sc, world.guard, e.where, f"in the OpaqueFunction {fn.name}(): Python would "
+                             f"raise {e.kind}: {e.message}")
                 worlds.extend(world.pending)
                 continue
             worlds.extend(world.pending)

@@ -162,7 +162,9 @@ class Exprs:
             r = f(a, b)
         except guard.TooBig:
             raise Decline("a value too large to analyse", m.where(n))
-        except (TypeError, ValueError, ZeroDivisionError, OverflowError) as ex:
+        except ZeroDivisionError as ex:
+            raise PyError("ZeroDivisionError", str(ex), m.where(n), sure=True)
+        except (TypeError, ValueError, OverflowError) as ex:
             raise PyError(type(ex).__name__, str(ex), m.where(n))
         if isinstance(r, str) and (marked(a) or marked(b)):
             return r
@@ -314,12 +316,13 @@ class Exprs:
             try:
                 return obj[key]
             except IndexError:
-                raise PyError("IndexError", f"{type_name(obj)} index out of range", m.where(n))
+                raise PyError("IndexError", f"{type_name(obj)} index out of range", m.where(n), sure=True)
         if isinstance(obj, dict):
             try:
                 return obj[key]
             except KeyError:
-                raise PyError("KeyError", repr(str(key)) if isinstance(key, str) else repr(key), m.where(n))
+                raise PyError("KeyError", repr(str(key)) if isinstance(key, str) else repr(key), m.where(n),
+                              sure=plain_value(key))
             except TypeError as ex:
                 raise PyError("TypeError", str(ex), m.where(n))
         if isinstance(obj, (Sym, LClass)):

@@ -27,7 +27,7 @@ from . import subst_ext  # noqa: F401  (registers the walker's Python-only subst
 from .actions import OpaqueA, ensure_elements
 from .convert import Converter, PyEntity, PyValue
 from .interp import Interp
-from .values import Decline, Func, LObj, ModuleNS, PyError, Unknown
+from .values import Decline, Func, LObj, ModuleNS, PyError, SysPath, Unknown
 
 PY_SYNTAX = register("python-syntax", Severity.ERROR, "A Python launch file Python cannot parse", "launch")
 
@@ -97,6 +97,7 @@ class PyHost:
         self.world = None
         self.unit: Optional["PyUnit"] = None
         self._found: dict = {}
+        self.sys_path = SysPath()
 
     # -- files
     def read(self, path: str) -> Optional[str]:
@@ -163,16 +164,21 @@ class PyHost:
         return m
 
     def _module_file(self, name: str) -> Optional[str]:
-        if name in self._found:
-            return self._found[name]
+        """The file of a workspace module: in a folder the file put on ``sys.path`` (where ros2
+        launch finds it too); the symbolic analysis also looks in the packages' folders (where
+        an installed package's modules come from)."""
+        key = (name, tuple(self.sys_path.added))
+        if key in self._found:
+            return self._found[key]
         parts = name.split(".")
         if not all(p.isidentifier() for p in parts):
             return None
-        roots = []
-        for folder in self.w.packages.values():
-            roots.append(folder)
-            roots.append(os.path.join(folder, "src"))
-        roots.append(os.path.dirname(self.unit_path))
+        roots = [r for r in self.sys_path.added if self.w.in_workspace(os.path.join(r, "x"))]
+        if not self.concrete:
+            for folder in self.w.packages.values():
+                roots.append(folder)
+                roots.append(os.path.join(folder, "src"))
+            roots.append(os.path.dirname(self.unit_path))
         found = None
         for r in roots:
             base = os.path.join(r, *parts)
@@ -183,7 +189,7 @@ class PyHost:
                     break
             if found:
                 break
-        self._found[name] = found
+        self._found[key] = found
         return found
 
     def relative_module(self, m: ModuleNS, level: int, module: Optional[str]) -> Optional[str]:
@@ -225,7 +231,7 @@ class PyHost:
             if presence:
                 return False
             if required:
-                raise PyError("KeyError", repr(str(name)), m.where(n))
+                raise PyError("KeyError", repr(str(name)), m.where(n), sure=True)
             return default
         if isinstance(v, str) and opaque(v):
             return Unknown(f"the value of the launch configuration '{name}' (tvl-lsp cannot compute it)", m.where(n))

@@ -19,6 +19,7 @@ Bounds: ``MAX_STEPS`` evaluation steps per run, calls ``MAX_CALL_DEPTH`` deep, e
 from __future__ import annotations
 
 import ast
+import builtins
 from typing import Callable, Optional
 
 from .. import evalguard as guard
@@ -300,7 +301,7 @@ class Interp(Exprs):
         ws = self.host.workspace_module(name, self)
         if ws is not None:
             return ws
-        self.funcs.check_import(name, m, node)
+        self.funcs.check_import(name, m, node, self.host.concrete)
         return Sym(name)
 
     # ------------------------------------------------------------------ names
@@ -318,7 +319,9 @@ class Interp(Exprs):
         b = self.funcs.builtin(name)
         if b is not None:
             return b
-        raise PyError("NameError", f"name '{name}' is not defined", m.where(node))
+        if name in _PY_BUILTINS:
+            return Unknown(f"the builtin {name} is not modelled", m.where(node))
+        raise PyError("NameError", f"name '{name}' is not defined", m.where(node), sure=True)
 
     def set_name(self, name: str, v, env: Optional[Env], m: ModuleNS) -> None:
         if env is None or name in env.globals_decl:
@@ -658,6 +661,7 @@ class Interp(Exprs):
 
 
 _MISSING = object()
+_PY_BUILTINS = frozenset(dir(builtins))
 _OPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.FloorDiv: "//", ast.Mod: "%", ast.Pow: "**",
         ast.BitOr: "|", ast.BitAnd: "&", ast.BitXor: "^", ast.LShift: "<<", ast.RShift: ">>"}
 

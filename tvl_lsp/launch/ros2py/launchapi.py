@@ -81,6 +81,8 @@ def construct(interp, cls: LClass, args: list, kwargs: dict, m: ModuleNS, n):
 
 def check(interp, o: LObj, m: ModuleNS, n) -> None:
     """What the constructors check themselves (the file fails to load at once)."""
+    if o.cls in ("Node", "LifecycleNode", "ComposableNodeContainer", "ComposableNode"):
+        _check_params(o.get("parameters"), m, n)
     if o.cls == "DeclareLaunchArgument":
         choices = o.get("choices")
         d = o.get("default_value")
@@ -91,6 +93,46 @@ def check(interp, o: LObj, m: ModuleNS, n) -> None:
             if d not in choices:
                 raise PyError("RuntimeError", f'Provided default_value "{d}" is not in provided choices '
                               f'"{list(choices)}".', m.where(n), sure=True)
+
+
+def _check_params(params, m: ModuleNS, n) -> None:
+    """launch_ros' normalize_parameters, which the node's constructor runs: what it refuses."""
+    from .values import PathObj
+
+    def bad(msg):
+        raise PyError("TypeError", msg, m.where(n), sure=True)
+
+    def value(v, depth=0):
+        if depth > 20 or isinstance(v, Unknown):
+            return
+        if isinstance(v, dict):
+            for k, x in v.items():
+                value(x, depth + 1)
+        elif isinstance(v, LObj):
+            if v.cls not in SUBSTITUTIONS and v.cls != "ParameterValue":
+                bad(f"Unexpected type for parameter value {v.cls}")
+        elif isinstance(v, (str, bool, int, float, bytes)):
+            return
+        elif isinstance(v, (list, tuple)):
+            for x in v:
+                if isinstance(x, Unknown):
+                    continue
+                if not isinstance(x, (str, bool, int, float, LObj, list, tuple)) or \
+                        isinstance(x, LObj) and x.cls not in SUBSTITUTIONS:
+                    bad(f"Expected 'subvalue' to be one of [<class 'float'>, <class 'int'>, <class 'str'>, "
+                        f"<class 'bool'>, ...], but got '{x!r}' of type '{type_name(x)}'")
+        elif v is None or isinstance(v, PathObj):
+            bad(f"Unexpected type for parameter value {'None' if v is None else repr(v)}")
+    if params is None or isinstance(params, Unknown):
+        return
+    if isinstance(params, str) or not isinstance(params, (list, tuple)):
+        bad(f"Expecting list of parameters, got {params!r}" if isinstance(params, (str, int, float, bool))
+            else f"Expecting list of parameters, got {type_name(params)}")
+    for p in params:
+        if isinstance(p, dict):
+            value(p)
+        elif p is None:
+            bad("Expected 'param_file' to be one of [<class 'str'>, ...], but got 'None' of type '<class 'NoneType'>'")
 
 
 def is_substitution(v) -> bool:

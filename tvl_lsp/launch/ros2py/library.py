@@ -16,7 +16,7 @@ from typing import Optional
 
 from ...base import yamlsafe
 from .. import evalguard as guard
-from .values import (Builtin, BoundMethod, Decline, EnvMap, FileObj, Func, LaunchCtx, LClass, LCMap, LObj, ModuleNS,
+from .values import (SysPath, Builtin, BoundMethod, Decline, EnvMap, FileObj, Func, LaunchCtx, LClass, LCMap, LObj, ModuleNS,
                      PathObj, PyClass, PyError, Sym, Unknown, marked, type_name)
 
 _PLAIN = (str, int, float, bool, type(None))
@@ -181,7 +181,7 @@ def environ_get(interp, name, default, m: ModuleNS, n, required: bool = False):
         return v
     if host.concrete:
         if required:
-            raise PyError("KeyError", repr(str(name)), m.where(n))
+            raise PyError("KeyError", repr(str(name)), m.where(n), sure=True)
         return default
     return Unknown(f"the environment variable {name} (not set here; it may be when launching)", m.where(n))
 
@@ -197,19 +197,24 @@ def _path_arg(interp, v, m, n) -> Optional[str]:
 
 
 def read_text(interp, path, m: ModuleNS, n):
+    """The text of a file the launch file reads.  Reading a file that may not exist raises in
+    Python: where tvl-lsp cannot read it (a path it cannot know, relative to the folder ros2 launch
+    runs in, outside the workspace), the analysis declines there."""
     p = _path_arg(interp, path, m, n)
     if p is None:
-        return path if isinstance(path, Unknown) else Unknown(f"a file named by a {type_name(path)}", m.where(n))
+        why = path.reason if isinstance(path, Unknown) else f"a file named by a {type_name(path)}"
+        raise Decline(f"the file reads a file tvl-lsp cannot know ({why})", m.where(n))
     if marked(p):
-        return Unknown("a file of a package tvl-lsp cannot find", m.where(n))
+        raise Decline("the file reads a file of a package tvl-lsp cannot find", m.where(n))
     if not os.path.isabs(p):
-        return Unknown(f"the file {p} relative to the folder ros2 launch runs in", m.where(n))
+        raise Decline(f"the file reads {p}, relative to the folder ros2 launch runs in", m.where(n))
     t = interp.host.read(p)
     if t is None:
         ex = interp.host.exists(p)
         if ex is False and interp.host.in_workspace(p):
-            raise PyError("FileNotFoundError", f"[Errno 2] No such file or directory: '{p}'", m.where(n))
-        return Unknown(f"the file {p} (not readable here)", m.where(n))
+            raise PyError("FileNotFoundError", f"[Errno 2] No such file or directory: '{p}'", m.where(n),
+                          sure=True)
+        raise Decline(f"the file reads {p}, which tvl-lsp cannot read (outside the workspace)", m.where(n))
     return t
 
 
@@ -370,6 +375,10 @@ def attribute(interp, obj, name: str, m: ModuleNS, n, importing: bool):
         if name in ("read", "readlines", "close", "readline"):
             return BoundMethod(obj, name, m.where(n))
         return Unknown(f"file.{name}", m.where(n))
+    if isinstance(obj, SysPath):
+        if name in ("insert", "append", "extend", "remove"):
+            return BoundMethod(obj, name, m.where(n))
+        return Unknown(f"sys.path.{name}", m.where(n))
     if isinstance(obj, EnvMap):
         if name in ("get", "copy", "keys", "items", "values"):
             return BoundMethod(obj, name, m.where(n))
@@ -431,6 +440,14 @@ def call_method(interp, bm: BoundMethod, args, kwargs, m, n):
                 t = obj.text[obj.pos:j]
                 obj.pos = j
                 return t
+            return None
+        if isinstance(obj, SysPath):
+            items = [args[-1]] if name in ("insert", "append") else interp.iterate(args[0], m, n) \
+                if name == "extend" else []
+            for x in items:
+                p = x.path if isinstance(x, PathObj) else str(x) if isinstance(x, str) and not marked(x) else None
+                if p is not None and p not in obj.added:
+                    obj.added.append(p)
             return None
         if isinstance(obj, EnvMap):
             if name == "get":

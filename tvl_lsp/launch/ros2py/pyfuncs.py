@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 import math
 import posixpath
+import sys
 from typing import Optional
 
 from .. import evalguard as guard
@@ -27,10 +28,28 @@ _PLAIN = (str, int, float, bool, type(None))
 LAUNCH_PACKAGES = ("launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python")
 
 
-def check_import(name: str, m: ModuleNS, node) -> None:
+# what ros2 launch's Python has besides the standard library: the launch packages and their
+# dependencies, xacro (commonly pip-installed beside them) and the ROS client library's modules
+# launch_ros itself imports (rclpy, lifecycle_msgs, composition_interfaces)
+INSTALLED = {"launch", "launch_ros", "launch_xml", "launch_yaml", "ament_index_python", "yaml", "lark", "packaging",
+             "osrf_pycommon", "xacro", "pkg_resources", "setuptools"}
+ROS_STUBS = {"rclpy", "rclpy.executors", "rclpy.logging", "rclpy.parameter", "rclpy.exceptions",
+             "rclpy.validate_namespace", "rclpy.validate_node_name", "lifecycle_msgs", "lifecycle_msgs.msg",
+             "lifecycle_msgs.srv", "composition_interfaces", "composition_interfaces.srv"}
+
+
+def check_import(name: str, m: ModuleNS, node, concrete: bool = False) -> None:
     """``import name`` of a library module: the launch packages' modules must exist in the
-    modelled version (a newer module is declined, not guessed)."""
+    modelled version (a newer module is declined, not guessed).  The concrete load (what
+    ``ros2 launch`` does with this file, compared with the real one) also declines a module that is
+    neither the standard library nor the launch packages (nor the workspace's, put on
+    ``sys.path`` by the file): launch would fail to import it unless it is installed, and what it
+    does is unknown here.  The symbolic analysis goes on with unknown values instead."""
     top = name.split(".", 1)[0]
+    if concrete and top not in INSTALLED and name not in ROS_STUBS and top not in sys.stdlib_module_names:
+        raise Decline(f"the file imports {name}, a Python module that is neither part of ros2/launch nor a "
+                      "module of the workspace on the file's sys.path: what it does is not known (ros2 launch "
+                      "needs it installed)", m.where(node))
     if top in LAUNCH_PACKAGES and name not in apitable.EXPORTS and name.count(".") <= 1:
         parent = name.rsplit(".", 1)[0]
         exp = apitable.EXPORTS.get(parent)
@@ -577,8 +596,22 @@ def _argv(interp, args, kwargs, m, n):
 
 
 CONSTANTS["sys.argv"] = lambda interp: Unknown("the command line (sys.argv) of the process that launches")
-CONSTANTS["sys.path"] = lambda interp: Unknown("sys.path")
+CONSTANTS["sys.path"] = lambda interp: interp.host.sys_path
 CONSTANTS["sys.version_info"] = lambda interp: (3, 12, 0)
+CONSTANTS["typing.TYPE_CHECKING"] = lambda interp: False
+
+
+@_f("ament_index_python.resources.has_resource", "ament_index_python.has_resource")
+def _has_resource(interp, args, kwargs, m, n):
+    kind = args[0] if args else kwargs.get("resource_type")
+    name = args[1] if len(args) > 1 else kwargs.get("resource_name")
+    if kind == "packages" and isinstance(name, str):
+        w = interp.host.w
+        if name in w.packages or name in w.installed:
+            return True
+        if interp.host.concrete:
+            return False   # the packages of the load are the workspace's and AMENT_PREFIX_PATH's
+    return Unknown(f"whether the ament index has the resource {name!r} on the machine that launches", m.where(n))
 
 
 @_f("ament_index_python.packages.get_package_share_directory", "ament_index_python.get_package_share_directory")

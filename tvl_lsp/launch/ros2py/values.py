@@ -250,6 +250,13 @@ class EnvMap:
     """``os.environ``."""
 
 
+class SysPath:
+    """``sys.path``: the folders the file adds (its other entries are the interpreter's)."""
+
+    def __init__(self):
+        self.added: list[str] = []
+
+
 class LaunchCtx:
     """The ``LaunchContext`` an ``OpaqueFunction``'s function receives."""
 
