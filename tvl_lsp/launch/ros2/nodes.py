@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from typing import Optional
 
@@ -20,6 +21,17 @@ from ..model import RemapCase
 
 PAIRWISE_DUPLICATES = 8  # up to this many earlier nodes of a name: one duplicate-node fact per pair
 MAX_RELATED = 64  # related locations listed for a duplicate node
+
+
+@functools.lru_cache(maxsize=64)
+def _valid_yaml(text: str) -> bool:
+    """A substituted parameter file parses as YAML (remembered: the symbolic walk checks the
+    same text once per case and per node)."""
+    try:
+        yamlsafe.safe_load(text)
+        return True
+    except Exception:
+        return False
 
 
 class NodeRules:
@@ -319,9 +331,7 @@ class NodeRules:
         for cv, out in self.ev(v, sc, c, pel):
             if opaque(out):
                 continue
-            try:
-                yamlsafe.safe_load(out)
-            except Exception:
+            if not _valid_yaml(out):
                 self.fact(INVALID_VALUE, f"the parameter file '{f}' is not valid YAML once its substitutions are "
                           "made", pel.path, span, cv,
                           launch=("SubstitutionFailure", "The substituted parameter file is not a valid yaml file"))

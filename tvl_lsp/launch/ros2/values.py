@@ -160,14 +160,35 @@ def feval(f: Formula, env: Mapping[str, bool], memo: Optional[dict] = None) -> b
     return r
 
 
+def _vars_upto(f: Formula, limit: int) -> Optional[list[str]]:
+    """The sorted variables of ``f``, or None as soon as there are more than ``limit``."""
+    out: set[str] = set()
+    seen: set[int] = set()
+    stack = [f]
+    while stack:
+        g = stack.pop()
+        if id(g) in seen:
+            continue
+        seen.add(id(g))
+        if isinstance(g, Var):
+            out.add(g.name)
+            if len(out) > limit:
+                return None
+        elif isinstance(g, Not):
+            stack.append(g.arg)
+        elif isinstance(g, (And, Or)):
+            stack.extend(g.args)
+    return sorted(out)
+
+
 def satisfiable(f: Formula, limit: int = 14) -> Optional[bool]:
     """True / False by brute force over at most ``limit`` variables; None beyond."""
     if f == FALSE:
         return False
     if f == TRUE:
         return True
-    vs = sorted(fvars(f))
-    if len(vs) > limit:
+    vs = _vars_upto(f, limit)
+    if vs is None:
         return None
     for bits in itertools.product((False, True), repeat=len(vs)):
         if feval(f, dict(zip(vs, bits))):
