@@ -91,6 +91,11 @@ class PyHost:
     def __init__(self, w, unit_path: str):
         self.w = w
         self.unit_path = unit_path
+        if not getattr(w, "py_env_copied", False):
+            # the launch files' process environment, which they may change (os.environ['X'] = ...):
+            # a copy, never tvl-lsp's own
+            w.env = dict(w.env)
+            w.py_env_copied = True
         self.env = w.env
         self.concrete = w.concrete
         self.module_cache: dict = {}
@@ -116,6 +121,17 @@ class PyHost:
         if kind == "file":
             return self.w.exists(path)
         return self.w.exists(path) or os.path.isdir(path)
+
+    def set_env(self, key, value, m, n) -> None:
+        """``os.environ[key] = value`` (the walker's $(env) and EnvironmentVariable see it)."""
+        if isinstance(key, Unknown) or not isinstance(key, str):
+            raise Decline("the file sets an environment variable tvl-lsp cannot name", m.where(n))
+        if isinstance(value, str) and not isinstance(value, Unknown):
+            self.env[str(key)] = str(value)
+        elif isinstance(value, Unknown):
+            self.env[str(key)] = OPAQUE
+        else:
+            raise PyError("TypeError", f"str expected, not {type(value).__name__}", m.where(n), sure=True)
 
     # -- packages
     def package_dir(self, pkg: str, share: bool, where):

@@ -377,7 +377,10 @@ class Interp(Exprs):
                 return
             if isinstance(obj, dict) and isinstance(key, Unknown):
                 raise Decline(f"a dictionary key tvl-lsp cannot know ({key.reason})", m.where(tgt))
-            if isinstance(obj, Unknown) or self.lib.is_environ(obj):
+            if self.lib.is_environ(obj):
+                self.host.set_env(key, v, m, tgt)   # os.environ['X'] = ...: what launch reads later
+                return
+            if isinstance(obj, Unknown):
                 return
             raise Decline(f"tvl-lsp does not model assigning an item of a {type_name(obj)}", m.where(tgt))
         elif t is ast.Attribute:

@@ -358,7 +358,8 @@ def attribute(interp, obj, name: str, m: ModuleNS, n, importing: bool):
     if isinstance(obj, (list, dict, set, tuple, int, float, bool, type(None))):
         if isinstance(obj, tuple) and name in ("index", "count"):
             return BoundMethod(obj, name, m.where(n))
-        raise PyError("AttributeError", f"'{type_name(obj)}' object has no attribute '{name}'", m.where(n))
+        raise PyError("AttributeError", f"'{type_name(obj)}' object has no attribute '{name}'", m.where(n),
+                      sure=obj is None)
     if isinstance(obj, PathObj):
         p = obj.path
         if name in _PATH_ATTRS:
@@ -380,7 +381,7 @@ def attribute(interp, obj, name: str, m: ModuleNS, n, importing: bool):
             return BoundMethod(obj, name, m.where(n))
         return Unknown(f"sys.path.{name}", m.where(n))
     if isinstance(obj, EnvMap):
-        if name in ("get", "copy", "keys", "items", "values"):
+        if name in ("get", "copy", "keys", "items", "values", "update", "setdefault"):
             return BoundMethod(obj, name, m.where(n))
         return Unknown(f"os.environ.{name}", m.where(n))
     if isinstance(obj, LaunchCtx):
@@ -453,6 +454,21 @@ def call_method(interp, bm: BoundMethod, args, kwargs, m, n):
             if name == "get":
                 return environ_get(interp, args[0] if args else kwargs.get("key"),
                                    args[1] if len(args) > 1 else kwargs.get("default"), m, n)
+            if name == "update":
+                src = args[0] if args else {}
+                if not isinstance(src, dict):
+                    raise Decline("os.environ updated with values tvl-lsp cannot know", m.where(n))
+                for k, v in list(src.items()) + list(kwargs.items()):
+                    interp.host.set_env(k, v, m, n)
+                return None
+            if name == "setdefault":
+                cur = environ_get(interp, args[0], None, m, n)
+                if isinstance(cur, Unknown):
+                    return cur
+                if cur is None:
+                    interp.host.set_env(args[0], args[1] if len(args) > 1 else "", m, n)
+                    return args[1] if len(args) > 1 else ""
+                return cur
             return Unknown(f"os.environ.{name}() (the whole environment of the machine that launches)", m.where(n))
         if isinstance(obj, LCMap):
             if name == "get":

@@ -549,6 +549,26 @@ def _isdir(interp, args, kwargs, m, n):
     return exists(interp, args[0], m, n, "dir")
 
 
+@_f("os.listdir")
+def _listdir(interp, args, kwargs, m, n):
+    """A folder of the workspace: its entries in the file system's order, as Python gives them."""
+    s = _strs(interp, args[:1], m, n, "listdir")
+    if isinstance(s, Unknown):
+        return s
+    p = s[0]
+    if marked(p) or not posixpath.isabs(p) or not interp.host.in_workspace(posixpath.join(p, "x")):
+        return Unknown(f"os.listdir() of {p} (a folder of the machine that launches)", m.where(n))
+    import os
+    try:
+        names = os.listdir(p)
+    except OSError as ex:
+        raise PyError("FileNotFoundError" if isinstance(ex, FileNotFoundError) else "OSError", str(ex), m.where(n),
+                      sure=isinstance(ex, FileNotFoundError))
+    if len(names) > 10_000:
+        raise Decline("a folder too large to list", m.where(n))
+    return names
+
+
 @_f("os.getenv", "os.environ.get")
 def _getenv(interp, args, kwargs, m, n):
     return environ_get(interp, args[0] if args else kwargs.get("key"),
@@ -572,7 +592,7 @@ def _unknown_fn(what):
     return fn
 
 
-for _name in ("os.getcwd", "os.listdir", "os.walk", "glob.glob", "os.path.getmtime", "os.getpid", "time.time",
+for _name in ("os.getcwd", "os.walk", "glob.glob", "os.path.getmtime", "os.getpid", "time.time",
               "datetime.datetime.now", "socket.gethostname", "getpass.getuser", "os.uname", "platform.machine",
               "uuid.uuid4", "random.random", "random.randint", "tempfile.mkdtemp", "tempfile.gettempdir",
               "tempfile.NamedTemporaryFile", "tempfile.mkstemp", "shutil.which"):
@@ -586,7 +606,7 @@ for _name in ("xacro.process_file", "xacro.process", "xacro.parse", "xacro.proce
     FUNCS[_name] = Builtin(_name, _unknown_fn(f"{_name}() (xacro runs macros: tvl-lsp does not run it)"))
 
 for _name in ("os.makedirs", "os.mkdir", "os.remove", "os.unlink", "shutil.copy", "shutil.rmtree", "os.chdir",
-              "os.environ.update", "os.putenv", "shutil.copyfile", "sys.exit"):
+              "os.putenv", "shutil.copyfile", "sys.exit"):
     FUNCS[_name] = Builtin(_name, _declined(_name))
 
 
