@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ast
 import os
+import sys
 import threading
 from typing import Optional
 
@@ -81,6 +82,11 @@ def parse_python(text: str, path: str):
             _TREES_CHARS[0] -= k[1]
             del _TREES[k]
     return tree, None
+
+
+# modules that are never a workspace's: the standard library and the launch packages
+_NEVER_WORKSPACE = frozenset(sys.stdlib_module_names) | {"launch", "launch_ros", "launch_xml", "launch_yaml",
+                                                         "ament_index_python", "yaml", "xacro"}
 
 
 class PyHost:
@@ -160,6 +166,8 @@ class PyHost:
     def workspace_module(self, name: str, interp: Interp):
         if name in self.module_cache:
             return self.module_cache[name]
+        if name.split(".", 1)[0] in _NEVER_WORKSPACE:
+            return None
         path = self._module_file(name)
         if path is None:
             return None
@@ -191,9 +199,11 @@ class PyHost:
             return None
         roots = [r for r in self.sys_path.added if self.w.in_workspace(os.path.join(r, "x"))]
         if not self.concrete:
-            for folder in self.w.packages.values():
-                roots.append(folder)
-                roots.append(os.path.join(folder, "src"))
+            # an installed package's Python modules: a ROS package installs the Python package of
+            # its own name (ament_python, ament_python_install_package)
+            folder = self.w.packages.get(parts[0])
+            if folder is not None:
+                roots += [folder, os.path.join(folder, "src")]
             roots.append(os.path.dirname(self.unit_path))
         found = None
         for r in roots:

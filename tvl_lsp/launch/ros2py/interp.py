@@ -669,7 +669,22 @@ _OPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.FloorDiv: "
         ast.BitOr: "|", ast.BitAnd: "&", ast.BitXor: "^", ast.LShift: "<<", ast.RShift: ">>"}
 
 
+_GENERATORS: dict = {}
+
+
 def _is_generator(node) -> bool:
+    k = id(node)
+    got = _GENERATORS.get(k)
+    if got is not None and got[0] is node:
+        return got[1]
+    r = _has_yield(node)
+    if len(_GENERATORS) > 50_000:
+        _GENERATORS.clear()
+    _GENERATORS[k] = (node, r)
+    return r
+
+
+def _has_yield(node) -> bool:
     stack = list(node.body)
     while stack:
         x = stack.pop()
