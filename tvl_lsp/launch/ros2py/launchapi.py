@@ -145,6 +145,9 @@ def attribute(interp, o: LObj, name: str, m: ModuleNS, n):
             return list(o.args.setdefault("initial_entities", []) or [])
         from .values import BoundMethod
         return BoundMethod(o, name, m.where(n))
+    if name == "find" and o.cls in ("FindPackageShare", "FindPackagePrefix", "FindPackage"):
+        from .values import BoundMethod
+        return BoundMethod(o, name, m.where(n))
     if name == "perform" and o.cls in SUBSTITUTIONS:
         from .values import BoundMethod
         return BoundMethod(o, name, m.where(n))
@@ -181,6 +184,9 @@ def call_method(interp, o: LObj, name: str, args: list, kwargs: dict, m: ModuleN
     if name == "perform":
         ctx = args[0] if args else kwargs.get("context")
         return interp.host.perform(ctx, o, m, n)
+    if name == "find":   # FindPackageShare(...).find(package_name): the folder, at once
+        from .library import package_share
+        return package_share(interp, args, kwargs, m, n, prefix=o.cls != "FindPackageShare")
     return Unknown(f"{o.cls}.{name}() is not modelled", m.where(n))
 
 
