@@ -291,6 +291,7 @@ def test_generic_python_file_paired_with_its_model_finds_the_planted_problems():
     assert ("unmatched-arg", "Sonar") in codes
     assert any(c == "missing-arg" for c, _ in codes)
     assert any(c == "dead-element" for c, _ in codes)
+    assert ("constant-condition", "IfCondition(LaunchConfiguration('Base'))") in codes
     dup = next(d for d in diags if d.code == "duplicate-node")
     assert dup.witness is not None and dup.witness.get("Camera") and dup.witness.get("Diff")
     assert not [d for d in diags if d.severity == 1]

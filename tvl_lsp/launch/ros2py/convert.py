@@ -295,11 +295,17 @@ class Converter:
         return A.Cond("if", val)
 
     def _cond_attr(self, e: PyEntity, o: LObj, name: str, val: PyValue, shown: Optional[str] = None) -> None:
+        """``if`` / ``unless`` as the XML front end has them (what the checks read: ``$(var x)``),
+        and ``condition``: the Python text, for messages."""
         aw = o.extra.get("arg_where", {}).get("condition")
         if aw and aw[0][0] == self.path and name not in e.attrs:
             nspan = aw[1][1] if aw[1] is not None else aw[0][1]
             e.attrs[name] = RAttr(name, shown or S.plain(val.parts), nspan, aw[0][1], None, 0, False, None)
             e._read.add(name)
+            src = _source(o, aw[0][1])
+            if src is not None:
+                e.attrs["condition"] = RAttr("condition", src, nspan, aw[0][1], None, 0, False, None)
+                e._read.add("condition")
 
     # ------------------------------------------------------------------ actions
     def actions(self, ents, parent: Optional[PyEntity]) -> list:
@@ -754,6 +760,17 @@ class Converter:
 
     def a_OnShutdown(self, o, parent):
         return self.unknown_action(Unknown("an event handler outside RegisterEventHandler", o.where), parent)
+
+
+def _source(o: LObj, span: Span, limit: int = 200) -> Optional[str]:
+    """The text of the file at ``span`` (one line, shortened) -- an argument as written."""
+    m = o.extra.get("module")
+    if m is None:
+        return None
+    idx = m.index
+    text = idx.text[idx.offset(span.start):idx.offset(span.end)]
+    text = " ".join(text.split())
+    return text if len(text) <= limit else text[:limit - 1] + "…"
 
 
 def _describe_target(t) -> str:

@@ -334,6 +334,14 @@ def load_unit(w, path: str, text: str) -> Unit:
         doc.diagnostics.append(Diagnostic(PY_SYNTAX, Severity.ERROR, path, span, msg))
         doc.error = ("ParseError", msg, span)
         return Unit(path, doc, [], [A.LoadError("ParseError", msg, span, path)])
+    gen_def = next((st for st in tree.body if isinstance(st, ast.FunctionDef)
+                    and st.name == "generate_launch_description"), None)
+    if gen_def is not None:
+        # the launch description's place: where a missing argument would be declared
+        line = gen_def.lineno - 1
+        col = idx.line_text(line).find("generate_launch_description")
+        if col >= 0:
+            root.span = root.tag_span = Span(Pos(line, col), Pos(line, col + len("generate_launch_description")))
     host = PyHost(w, path)
     conv = Converter(path, root)
     m = ModuleNS(path, text, idx, "python_launch_file", {}, tree)

@@ -79,8 +79,36 @@ def construct(interp, cls: LClass, args: list, kwargs: dict, m: ModuleNS, n):
     return o
 
 
+def _str_item(x):
+    """str() of a plain value, as a constructor normalizes it (an unknown or a launch object stays)."""
+    if isinstance(x, (Unknown, LObj)) or isinstance(x, str):
+        return x
+    if isinstance(x, (bool, int, float)) or x is None:
+        return str(x)
+    return x
+
+
+def normalize(o: LObj) -> None:
+    """The constructors that turn plain values into text themselves."""
+    if o.cls == "LaunchConfiguration":
+        d = o.args.get("default")
+        if d is not None and not isinstance(d, (str, LObj, Unknown)):
+            items = list(d) if isinstance(d, (list, tuple)) else [d]
+            o.args["default"] = [_str_item(x) for x in items]
+    elif o.cls in ("EqualsSubstitution", "NotEqualsSubstitution"):
+        for k in ("left", "right"):
+            v = o.args.get(k)
+            if v is None:
+                o.args[k] = ""
+            elif isinstance(v, bool):
+                o.args[k] = str(v).lower()
+            elif isinstance(v, (int, float)):
+                o.args[k] = str(v)
+
+
 def check(interp, o: LObj, m: ModuleNS, n) -> None:
     """What the constructors check themselves (the file fails to load at once)."""
+    normalize(o)
     if o.cls in ("Node", "LifecycleNode", "ComposableNodeContainer", "ComposableNode"):
         _check_params(o.get("parameters"), m, n)
     if o.cls == "DeclareLaunchArgument":
