@@ -282,8 +282,10 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
             if el is None or "name" not in el.attrs:
                 continue
             at = el.attrs
-            feature_decls.append(ArgDecl(a.name, el.span, at["name"].value_span,
-                                         at["default"].value if "default" in at else None, None,
+            default = at["default"].value if "default" in at else None
+            if getattr(a.entity, "kind", "") == "py":   # one place of a Python file may declare several
+                default = S.plain(a.default.parts) if a.default is not None else None
+            feature_decls.append(ArgDecl(a.name, el.span, at["name"].value_span, default, None,
                                          a.description, path, el))
     la = LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, merge_facts(w.facts),
                         w.includes, [], root_el, "ros2")

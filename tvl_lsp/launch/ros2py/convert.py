@@ -25,6 +25,7 @@ from ..ros2 import actions as A
 from ..ros2 import subst as S
 from ..ros2.frontend import Entity, RAttr
 from .launchapi import CONDITIONS, SOURCES, SUBSTITUTIONS
+from .classes import PyInstance
 from .values import LObj, PathObj, SStr, Unknown, Where, marked
 
 
@@ -79,6 +80,7 @@ class Converter:
     def __init__(self, path: str, root: PyEntity):
         self.path = path
         self.root = root
+        self.unit = None   # the PyUnit (an instance's perform() is interpreted through it)
         self.entities: dict = {}
         self.substs_seen: set = set()
         self.cur: Optional[PyEntity] = None
@@ -162,12 +164,22 @@ class Converter:
                     continue
                 out.extend(self.parts(x, hard, attr, depth + 1))
             return out or [_text("")]
+        if isinstance(v, PyInstance):
+            if v.cls.derives_from("Substitution"):
+                sub = _sub("py-perform", [], self.where_of(v), hard)
+                sub.instance = v
+                sub.unit = self.unit
+                return [sub]
+            return [self.unknown(Unknown(f"a {v.cls.name} where launch expects a string or a substitution"), hard)]
         if isinstance(v, PathObj):
             return [self.unknown(Unknown("a pathlib.Path where launch 3.7.1 expects a string or a substitution "
                                          "(newer launch versions accept it)"), hard)]
         what = "None" if v is None else type(v).__name__
         return [self.unknown(Unknown(f"a {what} where launch expects a string or a substitution (launch raises "
                                      "TypeError)"), hard)]
+
+    def where_of(self, v) -> Optional[Where]:
+        return None
 
     def unknown(self, u: Unknown, hard: bool) -> S.Sub:
         w = u.where if u.where is not None and u.where[0] == self.path else None
@@ -344,6 +356,9 @@ class Converter:
         if not isinstance(o, LObj):
             if isinstance(o, Unknown):
                 return self.unknown_action(o, parent)
+            if isinstance(o, PyInstance):
+                return self.unknown_action(Unknown(f"an action of the class {o.cls.name} defined in Python (its "
+                                                   "execute() is not modelled)", o.cls.where), parent)
             what = "None" if o is None else type(o).__name__
             return self.unknown_action(Unknown(f"a {what} in the list of actions (launch fails on it)"), parent)
         fn = getattr(self, "a_" + o.cls, None)

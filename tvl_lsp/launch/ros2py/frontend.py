@@ -349,6 +349,7 @@ def load_unit(w, path: str, text: str) -> Unit:
     m.globals["__file__"] = path
     unit = PyUnit(host, conv, m)
     host.unit = unit
+    conv.unit = unit
     interp = Interp(host)
     acts: list = []
     errors: list = []

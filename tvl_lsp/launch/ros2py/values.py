@@ -183,14 +183,6 @@ class Sym:
 
 
 @dataclass(eq=False)
-class PyClass:
-    """A class defined in an interpreted module (instances are not modelled)."""
-    name: str
-    where: Optional[Where]
-    bases: list
-
-
-@dataclass(eq=False)
 class LClass:
     """A class of the launch API (``qual``: its full name in the table)."""
     qual: str
@@ -303,4 +295,7 @@ def type_name(v) -> str:
         return "function"
     if isinstance(v, PathObj):
         return "PosixPath"
+    cls = getattr(v, "cls", None)
+    if cls is not None and hasattr(cls, "mro"):
+        return cls.name   # an instance of a class of the file
     return type(v).__name__
