@@ -58,7 +58,6 @@ def test_explicit_xml_that_is_not_a_launch_file_is_reported(run, tmp_path: Path)
                                    "top-level `configurations:`"),
     ("package.xml", "<package format='2'><name>p</name></package>\n",
      "taken to be a catkin package manifest: it is read for package names, not checked"),
-    ("bringup.launch.py", "from launch import LaunchDescription\n", "taken to be a ROS 2 Python launch file"),
     ("blob.bin", b"\x00\x01\x02", "taken to be a binary file; --check reads only"),
 ])
 def test_every_kind_of_unchecked_file_is_named(run, tmp_path: Path, name, content, taken_to_be):
@@ -69,6 +68,19 @@ def test_every_kind_of_unchecked_file_is_named(run, tmp_path: Path, name, conten
     (line,) = _notices(r.stderr)
     assert line.startswith(f"tvl-lsp --check: warning: {f} not checked: {taken_to_be}"), line
     assert run("--check", "--strict", str(f)).returncode == 1
+
+
+def test_a_python_launch_file_named_is_checked(run, tmp_path: Path):
+    """A .launch.py file is a launch file (#25): checked, never run.  Without
+    generate_launch_description() ros2 launch cannot load it: that is its error."""
+    f = tmp_path / "bringup.launch.py"
+    f.write_text("from launch import LaunchDescription\n")
+    r = run("--check", str(f))
+    assert r.returncode == 1 and "generate_launch_description()" in r.stdout
+    assert not _notices(r.stderr)
+    f.write_text("from launch import LaunchDescription\n\n\ndef generate_launch_description():\n"
+                 "    return LaunchDescription([])\n")
+    assert run("--check", str(f)).returncode == 0
 
 
 def test_checked_and_unchecked_files_together(run, tmp_path: Path):
