@@ -162,8 +162,8 @@ class IncludeRules:
                 if n in ("ros_namespace",) or n.startswith("anon"):
                     continue
                 old = before.get(n, before_all.get(n, []))
-                if len(after) == len(old) and set(after) == set(old):   # (no repr: formulas share parts)
-                    continue
+                if len(after) == len(old) and set(after) == set(old):
+                    continue  # (formulas compare by hash: their repr is exponential in their sharing)
                 span = self.leak_span(a, emap, el, n)
                 sc.leaks[n] = Leak(n, el, span[1], span[0], old, after)
 

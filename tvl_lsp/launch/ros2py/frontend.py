@@ -30,7 +30,7 @@ from .convert import Converter, PyEntity, PyValue
 from .interp import Interp
 from .values import Decline, Func, LObj, ModuleNS, PyError, SysPath, Unknown
 
-PY_SYNTAX = register("python-syntax", Severity.ERROR, "A Python launch file Python cannot parse", "launch")
+PY_SYNTAX = register("python-syntax", Severity.ERROR, "A Python launch file that Python cannot parse.", "launch")
 
 MAX_PY_CHARS = 2_000_000
 MAX_MODULES = 64

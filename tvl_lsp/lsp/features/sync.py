@@ -43,7 +43,9 @@ def register(ls) -> None:
                             types.FileSystemWatcher(glob_pattern=g) for g in
                             ("**/*.tvl", "**/*.uvl", "**/*.dimacs", "**/*.launch", "**/*.launch.xml", "**/*.test",
                              "**/*_launch.xml",
-                             "**/package.xml", "**/*.yaml", "**/*.yml")]))]))
+                             "**/package.xml", "**/*.yaml", "**/*.yml",
+                             # the nodes' sources (the computation graph reads them)
+                             "**/*.{cpp,cc,cxx,h,hpp,hh,py}", "**/CMakeLists.txt", "**/setup.cfg")]))]))
             except Exception:  # the client said no: fine
                 log.debug("watched files registration refused")
 
