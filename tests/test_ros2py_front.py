@@ -342,3 +342,40 @@ def test_cli_obsolete_keyword_is_launchs_error(capsys):
     assert main(["launch", str(BRINGUP / "obsolete.launch.py"), "--workspace", str(WS), "--json"]) == 1
     d = json.loads(capsys.readouterr().out)
     assert "TypeError" in d["error"] and d["error_line"] == 8
+
+
+def test_an_include_that_is_not_followed_still_sets_its_args_and_leaks_unknowns(tmp_path):
+    """launch sets an include's args before loading the file, and an include does not scope:
+    after an include tvl-lsp cannot follow (a package outside the workspace), a configuration
+    nobody here declares is unknown, not an error."""
+    p = _ws(tmp_path, HEAD + """from launch.actions import IncludeLaunchDescription
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch.substitutions import PathJoinSubstitution
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        IncludeLaunchDescription(PythonLaunchDescriptionSource(
+            PathJoinSubstitution([FindPackageShare('other_pkg'), 'launch', 'x.launch.py'])),
+            launch_arguments={'passed': 'p1'}.items()),
+        Node(package='demo_pkg', executable='a', name='a',
+             parameters=[{'p': LaunchConfiguration('passed'), 'q': LaunchConfiguration('from_include')}]),
+    ])
+""")
+    la = _analyse(p)
+    assert not [f for f in la.facts if f.code == "undefined-arg"], [(f.code, f.message) for f in la.facts]
+    x = p.parent / "x.launch.xml"
+    x.write_text('<launch>\n  <include file="$(find-pkg-share other_pkg)/launch/y.launch.xml">\n'
+                 '    <arg name="passed" value="p1"/>\n  </include>\n'
+                 '  <node pkg="demo_pkg" exec="a" name="a">\n    <param name="p" value="$(var passed)"/>\n'
+                 '    <param name="q" value="$(var from_include)"/>\n  </node>\n</launch>\n')
+    la = analyse_launch2(x.read_text(), str(x), workspace_root=str(p.parents[3]), env=ENV)
+    assert not [f for f in la.facts if f.code == "undefined-arg"], [(f.code, f.message) for f in la.facts]
+
+
+def test_a_launch_testing_file_is_declined_not_an_error(tmp_path):
+    p = _ws(tmp_path, "import launch\nimport launch_testing\n\n\ndef generate_test_description():\n"
+                      "    return launch.LaunchDescription([])\n", name="test_x_launch.py")
+    diags = check_document(str(p))
+    assert [d.code for d in diags] == ["launch-not-analysable"] and "launch_testing" in diags[0].message
