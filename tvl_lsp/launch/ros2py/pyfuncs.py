@@ -603,12 +603,33 @@ for _name in ("os.getcwd", "os.walk", "glob.glob", "os.path.getmtime", "os.getpi
               "tempfile.NamedTemporaryFile", "tempfile.mkstemp", "shutil.which"):
     FUNCS[_name] = Builtin(_name, _unknown_fn(f"{_name}() (it depends on the machine that launches)"))
 
+def _program(name):
+    def fn(interp, args, kwargs, m, n):
+        why = f"{name}() runs a program (tvl-lsp never does)"
+        if interp.host.concrete:   # it may fail, and launch with it
+            raise Decline(f"{why}: its output, and whether it fails, are not known", m.where(n))
+        return Unknown(why, m.where(n))
+    return fn
+
+
 for _name in ("subprocess.run", "subprocess.check_output", "subprocess.call", "subprocess.Popen",
               "subprocess.check_call", "subprocess.getoutput", "os.system", "os.popen"):
-    FUNCS[_name] = Builtin(_name, _unknown_fn(f"{_name}() runs a program (tvl-lsp never does)"))
+    FUNCS[_name] = Builtin(_name, _program(_name))
+
+def _xacro(name):
+    def fn(interp, args, kwargs, m, n):
+        why = f"{name}() (xacro runs macros: tvl-lsp does not run it)"
+        if interp.host.concrete:
+            # whether xacro succeeds (its includes, the packages it finds) decides whether launch
+            # loads the file at all
+            raise Decline(f"{why}; whether it succeeds, and so whether ros2 launch loads the file, is not known",
+                          m.where(n))
+        return Unknown(why, m.where(n))
+    return fn
+
 
 for _name in ("xacro.process_file", "xacro.process", "xacro.parse", "xacro.process_doc"):
-    FUNCS[_name] = Builtin(_name, _unknown_fn(f"{_name}() (xacro runs macros: tvl-lsp does not run it)"))
+    FUNCS[_name] = Builtin(_name, _xacro(_name))
 
 for _name in ("os.makedirs", "os.mkdir", "os.remove", "os.unlink", "shutil.copy", "shutil.rmtree", "os.chdir",
               "os.putenv", "shutil.copyfile", "sys.exit"):
