@@ -57,8 +57,9 @@ class IncludeRules:
                 el.unresolved = True   # e.g. an installed package's file: not on this machine
                 self.not_followed(a, el, sc, c, emap)
                 continue
-            if u is None and self.exists(path + ".in"):
-                # made by the build from a template (CMake's configure_file): not in the sources
+            if u is None and not self.concrete and self.exists(path + ".in"):
+                # made by the build from a template (CMake's configure_file): not in the sources (the
+                # concrete load, which runs on the sources as the oracle does, fails on it)
                 self.decline(el.path, span, f"{os.path.basename(path)} is made by the build from "
                              f"{os.path.basename(path)}.in: tvl-lsp does not know what it will contain", c)
                 el.unresolved = True
