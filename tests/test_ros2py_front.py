@@ -379,3 +379,15 @@ def test_a_launch_testing_file_is_declined_not_an_error(tmp_path):
                       "    return launch.LaunchDescription([])\n", name="test_x_launch.py")
     diags = check_document(str(p))
     assert [d.code for d in diags] == ["launch-not-analysable"] and "launch_testing" in diags[0].message
+
+
+def test_an_undeclared_configuration_with_a_default_is_not_a_constant(tmp_path):
+    """LaunchConfiguration('log', default='true') that no DeclareLaunchArgument declares: ros2 launch
+    sets log:=false from the command line all the same, so its condition is not always true."""
+    p = _ws(tmp_path, HEAD + """
+def generate_launch_description():
+    log = LaunchConfiguration('log', default='true')
+    return LaunchDescription([Node(package='demo_pkg', executable='a', name='a', condition=IfCondition(log))])
+""")
+    diags = check_document(str(p))
+    assert not [d for d in diags if d.code in ("constant-condition", "dead-element")], [d.message for d in diags]

@@ -70,6 +70,7 @@ CONSTANT_CONDITION = register(
 _ARG_REF = re.compile(r"\$\((?:arg|var)\s+([^\s)]+)\s*\)")   # roslaunch's $(arg X), ros2's $(var X)
 _STRINGY = re.compile(r"""(==|!=|\bin\b)\s*['"\[]|['"]\s*(==|!=)""")
 _EVAL_ARG_REF = re.compile(r"arg\(\s*['\"]([^'\"]+)['\"]\s*\)")
+_VAR_DEFAULT = re.compile(r"\$\(var\s+([^\s)]+)\s+[^)]")   # ros2's $(var X default)
 MAX_COND_TEXT = 160
 MAX_EXPLAIN_FEATURES = 2000
 
@@ -533,8 +534,20 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                    if e.tag == "arg" and "name" in e.attrs and "default" in e.attrs and "value" not in e.attrs
                    and e.path == launch.path} - free_set
 
+    # a configuration read with a default that no <arg> declares is set from the command line just
+    # as well (ros2 launch sets any name:=value it is given): its default is not the only value
+    declared_here = {e.attrs["name"].value for e in launch.elements
+                     if e.tag in ("arg", "let") and "name" in e.attrs and e.path == launch.path}
+    for e in launch.elements:
+        if e.path != launch.path:
+            continue
+        for key in ("if", "unless"):
+            a = e.attrs.get(key)
+            if a is not None:
+                overridable |= {n for n in _VAR_DEFAULT.findall(a.value) if n not in declared_here} - free_set
+
     def reads(value: str) -> set[str]:
-        names = set(_ARG_REF.findall(value)) | set(_EVAL_ARG_REF.findall(value))
+        names = set(_ARG_REF.findall(value)) | set(_EVAL_ARG_REF.findall(value)) | set(_VAR_DEFAULT.findall(value))
         if "$(eval" in value:
             names |= set(re.findall(r"[A-Za-z_]\w*", value))
         return names
