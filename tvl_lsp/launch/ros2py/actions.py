@@ -18,10 +18,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Optional
+from typing import Any
 
 from ...base.diagnostics import Severity, register
-from ...base.formula import FALSE, TRUE, conj, disj, neg
+from ...base.formula import FALSE, conj, disj, neg
 from ..model import Attr, Element
 from ..ros2 import actions as A
 from ..ros2.frontend import substitutions_of
@@ -236,5 +236,4 @@ def ensure_elements(e, parent: Element, emap: dict, sink: list) -> None:
         ensure_elements(k, el, emap, sink)
 
 
-__all__ = ["OpaqueA", "EventA", "UnknownA", "UnsetA", "World", "ensure_elements", "run_deferred_events", "TRUE",
-           "Optional"]
+__all__ = ["OpaqueA", "EventA", "UnknownA", "UnsetA", "World", "ensure_elements", "run_deferred_events"]

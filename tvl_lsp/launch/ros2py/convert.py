@@ -15,7 +15,6 @@ Python-only constructs become actions with their own ``walk`` (:mod:`.actions`):
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from typing import Any, Optional
 
@@ -26,7 +25,7 @@ from ..ros2 import subst as S
 from ..ros2.frontend import Entity, RAttr
 from .launchapi import CONDITIONS, SOURCES, SUBSTITUTIONS
 from .classes import PyInstance
-from .values import LObj, PathObj, SStr, Unknown, Where, marked
+from .values import LObj, PathObj, SStr, Unknown, Where
 
 
 class PyEntity(Entity):
@@ -810,4 +809,4 @@ def _arg_span(o: LObj, name: str, path: str) -> Optional[Span]:
     return aw[0][1] if aw and aw[0][0] == path else None
 
 
-__all__ = ["Converter", "PyEntity", "PyValue", "os", "marked"]
+__all__ = ["Converter", "PyEntity", "PyValue"]

@@ -10,10 +10,9 @@ into the ROS 2 walker's actions (:mod:`.convert`).
 
 from __future__ import annotations
 
-from typing import Optional
 
 from . import apitable
-from .values import Decline, LaunchCtx, LClass, LObj, ModuleNS, PyError, Unknown, type_name
+from .values import LaunchCtx, LClass, LObj, ModuleNS, PyError, Unknown, type_name
 
 # classes whose instances are substitutions (perform()-able)
 SUBSTITUTIONS = {
@@ -276,4 +275,4 @@ def make_context() -> LaunchCtx:
 
 
 __all__ = ["construct", "attribute", "call_method", "subscript", "iterate", "binop", "is_substitution",
-           "SUBSTITUTIONS", "CONDITIONS", "SOURCES", "Optional", "Decline"]
+           "evaluate_condition", "SUBSTITUTIONS", "CONDITIONS", "SOURCES"]
