@@ -70,8 +70,10 @@ def resolve(interp, qual: str, m: ModuleNS, node, importing: bool):
         kind = exp.get(name)
         if kind is None:
             what = "import" if importing else "use"
-            raise Decline(f"tvl-lsp models launch 3.7.1 / launch_ros 0.28, where {mod} has no {name} (cannot {what} "
-                          "it)", m.where(node))
+            why = f"tvl-lsp models launch 3.7.1 / launch_ros 0.28, where {mod} has no {name}"
+            if interp.host.concrete:   # ros2 launch of that version fails on it
+                raise Decline(f"{why} (cannot {what} it)", m.where(node))
+            return Unknown(f"{name} of a newer launch ({why})", m.where(node))   # the symbolic analysis goes on
         if kind in apitable.CLASSES:
             return LClass(kind, name)
         if kind == "function":
