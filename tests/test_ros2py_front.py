@@ -391,3 +391,38 @@ def generate_launch_description():
 """)
     diags = check_document(str(p))
     assert not [d for d in diags if d.code in ("constant-condition", "dead-element")], [d.message for d in diags]
+
+
+def test_a_newer_launch_name_is_unknown_in_the_analysis_and_declined_by_the_load(tmp_path):
+    """PathSubstitution is not in launch 3.7.1 (the modelled version, where importing it fails): the
+    concrete load declines at the import; the symbolic analysis goes on with an unknown value."""
+    p = _ws(tmp_path, HEAD + """from launch.substitutions import PathSubstitution
+from launch_ros.substitutions import FindPackageShare
+
+
+def generate_launch_description():
+    cfg = PathSubstitution(FindPackageShare('demo_pkg')) / 'config' / 'a.yaml'
+    return LaunchDescription([Node(package='demo_pkg', executable='a', name='a', parameters=[cfg])])
+""")
+    res = load_launch2(str(p), {}, env=ENV)
+    assert res.error_type == "NotAnalysed" and "PathSubstitution" in res.error and res.error_line == 6
+    la = _analyse(p)
+    assert [n.name for n in la.nodes] == ["/a"]
+    assert not [f for f in la.facts if f.severity == 1]
+
+
+def test_xacro_and_programs_are_never_run(tmp_path):
+    p = _ws(tmp_path, HEAD + """import subprocess
+import xacro
+
+
+def generate_launch_description():
+    desc = xacro.process_file('/nonexistent/robot.urdf.xacro').toxml()
+    rev = subprocess.check_output(['git', 'rev-parse', 'HEAD'])
+    return LaunchDescription([Node(package='demo_pkg', executable='rsp', name='rsp',
+                                   parameters=[{'robot_description': desc, 'rev': rev}])])
+""")
+    res = load_launch2(str(p), {}, env=ENV)
+    assert res.error_type == "NotAnalysed" and "xacro" in res.error and res.error_line == 11
+    la = _analyse(p)
+    assert [n.name for n in la.nodes] == ["/rsp"] and not [f for f in la.facts if f.severity == 1]
