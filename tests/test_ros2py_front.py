@@ -426,3 +426,20 @@ def generate_launch_description():
     assert res.error_type == "NotAnalysed" and "xacro" in res.error and res.error_line == 11
     la = _analyse(p)
     assert [n.name for n in la.nodes] == ["/rsp"] and not [f for f in la.facts if f.severity == 1]
+
+
+def test_a_declined_generic_file_does_not_call_every_feature_missing(tmp_path):
+    """Where the analysis declines, a declaration may be hidden: no missing-arg then."""
+    p = _ws(tmp_path, HEAD + """import os
+
+
+def generate_launch_description():
+    args = [DeclareLaunchArgument('A', default_value='false')]
+    if os.environ.get('TVL_TEST_UNSET_VARIABLE'):
+        args.append(DeclareLaunchArgument('B', default_value='false'))
+    return LaunchDescription(args)
+""", name="gen.launch.py")
+    (p.parent / "gen.tvl").write_text("root R { group allOf { opt A, opt B } }\n")
+    diags = check_document(str(p))
+    assert "launch-not-analysable" in {d.code for d in diags}
+    assert not [d for d in diags if d.code == "missing-arg"], [d.message for d in diags]

@@ -268,7 +268,7 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             out.append(Diagnostic(UNMATCHED_ARG, Severity.WARNING, path, a.name_span, msg,
                                   data={"arg": a.name, "suggestion": sug}, fixes=fixes))
         root_span = _start_tag(launch.root) if launch.root is not None else Span(Pos(0, 0), Pos(0, 0))
-        for f in features:
+        for f in features if getattr(launch, "complete", True) else []:   # (a part not followed may declare it)
             if id(f) in matched_features:
                 continue
             name = encoding.name_of(f)

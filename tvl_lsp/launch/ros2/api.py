@@ -290,6 +290,7 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
     la = LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, merge_facts(w.facts),
                         w.includes, [], root_el, "ros2")
     la.unknown_conditions = list(dict.fromkeys(w.unknown_conditions))
+    la.complete = not any(f.code == NOT_ANALYSABLE and f.path == path for f in list(w.facts) + w.diagnostics)
     for d in feature_decls:
         a = next((x for x in (u.actions if u.doc.root is not None else []) if isinstance(x, A.ArgA)
                   and x.name == d.name and x.choices is not None), None)
