@@ -505,10 +505,17 @@ def check_paths(paths: Sequence[str], read_file: Optional[ReadFile] = None, jobs
         # heaviest first (models with many launch files), results merged in submission order
         order = sorted(range(len(units)), key=lambda i: -len(units[i].launches) - (4 if units[i].model else 0))
         results: dict[int, list[Diagnostic]] = {}
-        with ProcessPoolExecutor(max_workers=jobs) as ex:
+        from ..base.children import watch_parent  # (the workers die with this process)
+        from ..base.pools import kill_pool
+        ex = ProcessPoolExecutor(max_workers=jobs, initializer=watch_parent)
+        try:
             futs = {i: ex.submit(_run_unit, units[i]) for i in order}
             for i in order:
                 results[i] = futs[i].result()
+        except BaseException:  # Ctrl-C, SIGTERM: the workers are killed, not waited for
+            kill_pool(ex)
+            raise
+        ex.shutdown()
         for i in range(len(units)):
             out += results[i]
     return _dedupe_sort(out)

@@ -128,8 +128,12 @@ def main(argv: Optional[list[str]] = None) -> int:
             diags = [d for d in diags if d.code not in ignore]
         text = render(ns.format, diags, default_read_file)
         if ns.output:
-            with open(ns.output, "w", encoding="utf-8", newline="\n") as fh:
-                fh.write(text)
+            from ...base.safewrite import write_output
+            try:  # atomic, never through a link; a full disk is one line, not a traceback
+                write_output(ns.output, text)
+            except OSError as ex:
+                print(f"tvl-lsp --check: {ex}", file=sys.stderr)
+                return 2
         else:
             sys.stdout.write(text)
             sys.stdout.flush()

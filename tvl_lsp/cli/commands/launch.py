@@ -111,7 +111,8 @@ def main(argv: list[str]) -> int:
 
             def show(incs, depth):
                 for inc in incs:
-                    state = "" if inc["followed"] else "  (not followed: outside the workspace)"
+                    state = "" if inc["followed"] else ("  (not read: outside the workspace)" if inc.get("outside")
+                                                        else "  (not followed)")
                     print("  " + "  " * depth + f"{inc['file']} [ns {inc['namespace']}]{state}")
                     show(inc["includes"], depth + 1)
             show(res.includes, 0)
@@ -146,7 +147,8 @@ def _ros2(path: str, args: dict, workspace, as_json: bool, strict: bool) -> int:
 
         def show(incs, depth):
             for inc in incs:
-                state = "" if inc["followed"] else "  (not followed)"
+                state = "" if inc["followed"] else ("  (not read: outside the workspace)" if inc.get("outside")
+                                                    else "  (not followed)")
                 print("  " + "  " * depth + f"{inc['file']}{state}")
                 show(inc["includes"], depth + 1)
         show(res.includes, 0)

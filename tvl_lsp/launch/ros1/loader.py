@@ -27,8 +27,9 @@ from typing import Iterable, Mapping, Optional
 from ...base.formula import FALSE, TRUE, Formula, Var, disj, forall_unknowns, neg, substitute, variables
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import LineIndex, Span
-from ...base.files import inside, is_regular, read_text_or_none
+from ...base.files import is_regular, model_workspace, read_text_or_none
 from . import subst as S
+from ..model import Reach
 from ..model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
                     ParamFact, Subst)
 from ..packages import guess_workspace_root, ros_packages
@@ -69,9 +70,11 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
             packages = ros_packages(workspace_root, env)
         self.packages = dict(packages)
         self.ambiguous: dict[str, list[str]] = dict(getattr(packages, "ambiguous", None) or {})
-        # the symbolic walk (--check, the editor) reads files inside the workspace and its
-        # packages only: a file elsewhere is never read, so never quoted in a diagnostic
-        self.confine = ([workspace_root] + list(self.packages.values())) if workspace_root and not concrete else None
+        # every walk (symbolic: --check, the editor, graph, the configurator; concrete: tvl-lsp
+        # launch) reads files inside the workspace and its packages only: a file elsewhere is
+        # never read, so never quoted in a diagnostic (model.outside_reach: the one rule)
+        self.confine = ([workspace_root] + list(self.packages.values())) if workspace_root else None
+        self.reach = Reach(self.confine) if self.confine is not None else None
         self.facts: list[ErrorFact] = []
         self.nodes: list[NodeFact] = []
         self.params: list[ParamFact] = []
@@ -108,8 +111,8 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
 
     # ---------------------------------------------------------------- files
 
-    def read(self, path: str) -> Optional[str]:
-        if self.confine is not None and not inside(path, self.confine):
+    def read(self, path: str, confined: bool = True) -> Optional[str]:
+        if confined and self.reach is not None and self.reach.outside(path):
             return None
         if self.read_file is not None:
             try:
@@ -350,7 +353,7 @@ def arg_uses(text: str, path: str, names: Iterable[str], workspace_root: Optiona
     if not names:
         return typing
     if workspace_root is None and packages is None and os.path.isabs(path):
-        workspace_root = guess_workspace_root(path)
+        workspace_root = guess_workspace_root(path) or model_workspace(path)
     w = Walker(concrete=False, workspace_root=workspace_root, read_file=read_file,
                env=os.environ if env is None else env, packages=packages, typing=typing)
     try:
@@ -435,7 +438,7 @@ def analyse_launch(text: str, path: str, workspace_root: Optional[str] = None, r
     ``alone``: the file is checked without a model (default: when ``features`` is None).
     """
     if workspace_root is None and packages is None and os.path.isabs(path):
-        workspace_root = guess_workspace_root(path)
+        workspace_root = guess_workspace_root(path) or model_workspace(path)
     w = Walker(concrete=False, workspace_root=workspace_root, read_file=read_file,
                env=os.environ if env is None else env, packages=packages)
     # checked alone, the command line is how the file is meant to be run: an undeclared
@@ -539,9 +542,10 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
         if workspace_root is None:
             workspace_root = guess_workspace_root(path)
         packages = ros_packages(workspace_root, env)  # the one resolver, as --check's
-    w = Walker(concrete=True, workspace_root=workspace_root, read_file=read_file, env=env, packages=packages)
+    w = Walker(concrete=True, workspace_root=workspace_root or model_workspace(path), read_file=read_file, env=env,
+               packages=packages)
     if text is None:
-        text = w.read(path)
+        text = w.read(path, confined=False)  # (the file named on the command line, wherever it is)
         if text is None:
             return LoadResult([], {}, [], [], f"[Errno 2] No such file or directory: '{path}'", "file-not-found")
     # roslaunch takes the command line as ROS remappings: some name:=value pairs never reach it
@@ -594,7 +598,8 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
 
     def inc_tree(incs: list[IncludeFact]) -> list[dict]:
         return [dict(file=i.file, followed=i.followed, namespace=i.namespace, package=i.package,
-                     includes=inc_tree(i.children)) for i in incs if loaded(i.condition)]
+                     includes=inc_tree(i.children), **({"outside": True} if i.outside else {}))
+                for i in incs if loaded(i.condition)]
 
     remaps = []
     for n in nodes:

@@ -52,6 +52,7 @@ PACKAGE_NOT_FOUND = _reg("package-not-found", E, "A $(find pkg) of a package ros
 PACKAGE_AMBIGUOUS = _reg("package-ambiguous", I, "A $(find pkg) of a package name that several folders hold.")
 CONDITION_NOT_ANALYSABLE = _reg("condition-not-analysable", I, "A condition tvl-lsp cannot translate to a formula.")
 INCLUDE_NOT_FOUND = _reg("include-not-found", E, "An included file does not exist.")
+INCLUDE_OUTSIDE = _reg("include-outside-workspace", W, "An included file outside the workspace: it is not read.")
 INCLUDE_INVALID = _reg("include-invalid", E, "An included file is not a valid launch file.")
 INCLUDE_CYCLE = _reg("include-cycle", E, "Files include each other in a cycle.")
 INCLUDE_TOO_DEEP = _reg("include-too-deep", W, "Includes nested too deeply to follow.")

@@ -45,6 +45,7 @@ ENV_NOT_SET = _reg("env-not-set", E, "A $(env X) where X is not set in tvl-lsp's
 PACKAGE_NOT_FOUND = _reg("package-not-found", E, "A $(find pkg) of a package roslaunch cannot find.")
 CONDITION_NOT_ANALYSABLE = _reg("condition-not-analysable", I, "A condition tvl-lsp cannot translate to a formula.")
 INCLUDE_NOT_FOUND = _reg("include-not-found", E, "An included file does not exist.")
+INCLUDE_OUTSIDE = _reg("include-outside-workspace", W, "An included file outside the workspace: it is not read.")
 INCLUDE_INVALID = _reg("include-invalid", E, "An included file is not a valid launch file.")
 INCLUDE_CYCLE = _reg("include-cycle", E, "Files include each other in a cycle.")
 INCLUDE_TOO_DEEP = _reg("include-too-deep", W, "Includes nested too deeply to follow.")

@@ -28,8 +28,8 @@ from typing import Mapping, Optional
 from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg, unknown
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import Span
-from ...base.files import inside, is_regular, read_text_or_none
-from ..model import Element, ErrorFact, IncludeFact
+from ...base.files import is_regular, read_text_or_none
+from ..model import Element, ErrorFact, IncludeFact, Reach
 from . import actions as A
 from . import subst as S
 from .frontend import parse_launch_file
@@ -87,9 +87,10 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.env = env
         self.read_file = read_file
         self.root = workspace_root
-        # the symbolic walk reads files inside the workspace and its packages only (see ros1)
+        # every walk reads files inside the workspace and its packages only (see ros1)
         self.confine = ([workspace_root] + list(self.packages.values()) + list(self.installed.values())
-                        if workspace_root and not concrete else None)
+                        if workspace_root else None)
+        self.reach = Reach(self.confine) if self.confine is not None else None
         self.stub = stub_packages
         self.facts: list[ErrorFact] = []
         self.nodes: list[Node2Fact] = []
@@ -143,8 +144,8 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.noted.add(key)
         self.facts.append(LaunchFact(code, severity, message, path, span, TRUE, []))
 
-    def read(self, path: str) -> Optional[str]:
-        if self.confine is not None and not inside(path, self.confine):
+    def read(self, path: str, confined: bool = True) -> Optional[str]:
+        if confined and self.reach is not None and self.reach.outside(path):
             return None
         if self.read_file is not None:
             try:

@@ -10,7 +10,7 @@ from lsprotocol import types
 from ...base.diagnostics import Fix, TextEdit
 from ..convert import fix_to_edit, from_lsp_range, spans_overlap, to_lsp_diagnostic
 from ...project.facts import MODEL_KINDS
-from .commands import GENERATE, can_create, creation_edit, plan
+from .commands import GENERATE, can_create, check_targets, creation_edit, plan
 
 
 def _same(lsp_diag: types.Diagnostic, d, rng) -> bool:
@@ -101,5 +101,6 @@ def register(ls) -> None:
         opts = data.get("tvl-lsp.generate")
         if isinstance(opts, dict) and action.edit is None:
             files, out_dir, truncated = await plan(ls, opts)
+            check_targets(ls, files)  # (no link, no FIFO among them: the editor writes them)
             action.edit = creation_edit(files)
         return action
