@@ -52,6 +52,8 @@ class IncludeRules:
                 inc.outside = True
                 el.unresolved = True
                 self.fact(INCLUDE_OUTSIDE, outside_message(shown(f), path), el.path, span, c, W)
+                if not self.concrete:
+                    self.not_followed(a, el, sc, c, emap)   # what it sets is unknown, not missing
                 continue
             u = self.unit(path)
             if u is None and not self.concrete:
