@@ -18,7 +18,7 @@ log = logging.getLogger("tvl_lsp.server")
 Reader = Callable[[str], Optional[str]]
 
 LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".test", ".launch.yaml", ".launch.yml", "_launch.xml",
-                   "_launch.yaml", "_launch.yml")
+                   "_launch.yaml", "_launch.yml", ".launch.py", "_launch.py")
 
 
 def file_kind(path: str) -> Optional[str]:

@@ -419,6 +419,8 @@ _ARG_RE = None
 def arg_name_span(subst, index) -> Optional[Span]:
     """The span of X in ``$(arg X)`` / ROS 2's ``$(var X)`` (the subst span is the whole
     ``$(...)``); ``index`` is the LineIndex of the file's text."""
+    if getattr(subst, "name_span", None) is not None:
+        return subst.name_span   # the front end knows it (a Python launch file's string literal)
     import re
     global _ARG_RE
     if _ARG_RE is None:
