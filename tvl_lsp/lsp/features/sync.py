@@ -42,7 +42,7 @@ def register(ls) -> None:
                         register_options=types.DidChangeWatchedFilesRegistrationOptions(watchers=[
                             types.FileSystemWatcher(glob_pattern=g) for g in
                             ("**/*.tvl", "**/*.uvl", "**/*.dimacs", "**/*.launch", "**/*.launch.xml", "**/*.test",
-                             "**/*_launch.xml",
+                             "**/*_launch.xml", "**/*.launch.py", "**/*_launch.py",
                              "**/package.xml", "**/*.yaml", "**/*.yml")]))]))
             except Exception:  # the client said no: fine
                 log.debug("watched files registration refused")
@@ -139,6 +139,7 @@ def register(ls) -> None:
         ls.published.pop(uri, None)
         if doc is not None:
             ls.parsed_cache.pop(doc.path, None)
+            ls.good_parsed.pop(doc.path, None)
         ls.clear(uri)
         if doc is not None:
             ls.recheck_dependents(doc.path)  # they now see the disk text
