@@ -4,6 +4,7 @@ hostile input (never run, never a crash), the pairing with a model, includes acr
 
 from __future__ import annotations
 
+import json
 import os
 import time
 from pathlib import Path
@@ -290,6 +291,7 @@ def test_generic_python_file_paired_with_its_model_finds_the_planted_problems():
     assert ("unmatched-arg", "Sonar") in codes
     assert any(c == "missing-arg" for c, _ in codes)
     assert any(c == "dead-element" for c, _ in codes)
+    assert ("constant-condition", "IfCondition(LaunchConfiguration('Base'))") in codes
     dup = next(d for d in diags if d.code == "duplicate-node")
     assert dup.witness is not None and dup.witness.get("Camera") and dup.witness.get("Diff")
     assert not [d for d in diags if d.severity == 1]
@@ -299,3 +301,44 @@ def test_the_clean_generic_python_file_gets_nothing():
     p = WS / "src" / "py_robot" / "launch" / "generic.launch.py"
     diags = check_document(str(p))
     assert [d for d in diags if d.severity <= 2] == [], [(d.code, d.message) for d in diags]
+
+
+# ------------------------------------------------------------------ the command line
+
+def test_cli_lists_event_handlers_apart(capsys):
+    from tvl_lsp.main import main
+    f = str(BRINGUP / "events.launch.py")
+    assert main(["launch", f, "--workspace", str(WS), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert [n["name"] for n in out["nodes"]] == ["/spawner"]
+    ev = {e["event"]: [n["name"] for n in e["nodes"]] for e in out["events"]}
+    assert ev == {"OnProcessExit": ["/controller_spawner"], "OnProcessStart": ["/watcher"]}
+    assert main(["launch", f, "--workspace", str(WS)]) == 0
+    text = capsys.readouterr().out
+    assert "events (" in text and "OnProcessExit of Node(spawner)" in text and "/controller_spawner" in text
+
+
+def test_cli_says_which_line_stops_the_analysis(capsys, tmp_path):
+    from tvl_lsp.main import main
+    p = _ws(tmp_path, HEAD + """import sys
+
+
+def generate_launch_description():
+    nodes = []
+    for a in sys.argv:
+        nodes.append(Node(package='demo_pkg', executable='x', name='n'))
+    return LaunchDescription(nodes)
+""")
+    assert main(["launch", str(p)]) == 1
+    out = capsys.readouterr().out
+    assert "not analysable" in out and "t.launch.py:11" in out and "sys.argv" in out
+    assert main(["launch", str(p), "--json"]) == 1
+    d = json.loads(capsys.readouterr().out)
+    assert d["error_type"] == "NotAnalysed" and d["error_line"] == 11 and d["nodes"] == []
+
+
+def test_cli_obsolete_keyword_is_launchs_error(capsys):
+    from tvl_lsp.main import main
+    assert main(["launch", str(BRINGUP / "obsolete.launch.py"), "--workspace", str(WS), "--json"]) == 1
+    d = json.loads(capsys.readouterr().out)
+    assert "TypeError" in d["error"] and d["error_line"] == 8

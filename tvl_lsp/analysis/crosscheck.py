@@ -128,29 +128,37 @@ def _has_cond(e) -> bool:
     return "if" in e.attrs or "unless" in e.attrs
 
 
-def _is_python(path: str) -> bool:
+# the launch classes of a Python launch file's elements (their tags are the XML front end's)
+_PY_CLASS = {"node": "Node", "node_container": "ComposableNodeContainer", "composable_node": "ComposableNode",
+             "include": "IncludeLaunchDescription", "group": "GroupAction", "arg": "DeclareLaunchArgument",
+             "let": "SetLaunchConfiguration", "executable": "ExecuteProcess", "timer": "TimerAction",
+             "push_ros_namespace": "PushRosNamespace", "set_remap": "SetRemap", "set_parameter": "SetParameter",
+             "load_composable_node": "LoadComposableNodes", "opaque_function": "OpaqueFunction",
+             "event_handler": "RegisterEventHandler", "log": "LogInfo"}
+
+
+def _is_py(path: str) -> bool:
     return path.endswith(".py")
 
 
-# the launch classes of a Python launch file's elements (for messages): tag -> class
-PYTHON_CLASSES = {"node": "Node", "include": "IncludeLaunchDescription", "group": "GroupAction", "arg": "DeclareLaunchArgument",
-             "let": "SetLaunchConfiguration", "executable": "ExecuteProcess", "timer": "TimerAction",
-             "node_container": "ComposableNodeContainer", "load_composable_node": "LoadComposableNodes",
-             "composable_node": "ComposableNode", "push_ros_namespace": "PushRosNamespace",
-             "set_parameter": "SetParameter", "set_remap": "SetRemap", "set_env": "SetEnvironmentVariable",
-             "log": "LogInfo"}
+def _cond_shown(e, attr) -> str:
+    """The condition as the file writes it: ``if="$(var x)"``, or a Python file's
+    ``condition=IfCondition(...)``."""
+    if _is_py(e.path):
+        c = e.attrs.get("condition")
+        if c is not None:
+            return f"condition={c.value}"
+    return f'{attr.name}="{attr.value}"'
+
+
+PYTHON_CLASSES = _PY_CLASS  # (for the hosts: hover)
 
 
 def _describe_element(e) -> str:
-    if _is_python(e.path):
-        cls = PYTHON_CLASSES.get(e.tag, e.tag)
+    if _is_py(e.path):
+        cls = _PY_CLASS.get(e.tag, e.tag)
         name = e.attrs.get("name")
-        if name is not None:
-            return f"{cls}(name='{name.value}')"
-        f = e.attrs.get("file")
-        if f is not None:
-            return f"{cls}(... '{os.path.basename(f.value)}')"
-        return f"{cls}(...)"
+        return f"{cls}(name='{name.value}')" if name is not None else f"{cls}(...)"
     name = e.attrs.get("name")
     if name is not None:
         return f'<{e.tag} name="{name.value}">'
@@ -160,19 +168,10 @@ def _describe_element(e) -> str:
     return f"<{e.tag}>"
 
 
-def _condition_text(e, attr, text: Optional[str]) -> str:
-    """``if="$(var X)"`` (XML, YAML) or ``condition=IfCondition(...)`` (Python: its source)."""
-    if _is_python(e.path) and text is not None:
-        idx = LineIndex(text)
-        src = " ".join(text[idx.offset(attr.name_span.start):idx.offset(attr.value_span.end)].split())
-        return src if len(src) <= MAX_COND_TEXT else src[: MAX_COND_TEXT - 1] + "…"
-    return f'{attr.name}="{attr.value}"'
-
-
 def _arg_inserter(launch, text: Optional[str], model_name: Optional[str]):
     """feature -> the fixes that add its argument to the launch file (none when there is no
     place for it)."""
-    if text is not None and _is_python(launch.path):
+    if text is not None and _is_py(launch.path):
         from ..launch.ros2py.editing import declare_argument_planner
         try:
             insert = declare_argument_planner(text, launch.path, launch)
@@ -189,8 +188,8 @@ def _arg_inserter(launch, text: Optional[str], model_name: Optional[str]):
 
 
 def _insert_arg_fix(launch, text: Optional[str], feature: str) -> list[Fix]:
-    if text is None or launch.root is None:
-        return []
+    if text is None or launch.root is None or _is_py(launch.path):
+        return []   # (a Python file's DeclareLaunchArgument is another fix)
     idx = LineIndex(text)
     top_args = [c for c in launch.root.children if c.tag == "arg"]
     ros2 = getattr(launch, "dialect", "ros1") == "ros2"
@@ -274,15 +273,14 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
                 continue
             sug = _closest(a.name, unmatched_feature_names)
             also = None if sug else _closest(a.name, all_feature_names)
-            py = _is_python(path)
-            msg = f"{'argument' if py else 'arg'} `{a.name}` names no feature of {model_name}"
+            msg = f"{'argument' if _is_py(path) else 'arg'} `{a.name}` names no feature of {model_name}"
             fixes = []
             if sug:
                 msg += f"; did you mean `{sug}`?"
                 fixes = [Fix(f"Rename to `{sug}`", (TextEdit(path, a.name_span, sug),), preferred=True)]
             elif also:
                 msg += f" (`{also}` already has its arg)"
-            elif py:
+            elif _is_py(path):
                 msg += " (in a generic launch file the declared arguments are exactly the features; "\
                        "declare other arguments inside a GroupAction)"
             else:
@@ -291,9 +289,6 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             out.append(Diagnostic(UNMATCHED_ARG, Severity.WARNING, path, a.name_span, msg,
                                   data={"arg": a.name, "suggestion": sug}, fixes=fixes))
         root_span = _start_tag(launch.root) if launch.root is not None else Span(Pos(0, 0), Pos(0, 0))
-        if _is_python(path) and launch_text is not None:
-            from ..launch.ros2py.editing import launch_description_span
-            root_span = launch_description_span(launch_text, path) or root_span
         insert_arg = _arg_inserter(launch, launch_text, model_name)
         for f in features:
             if id(f) in matched_features:
@@ -301,20 +296,19 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             name = encoding.name_of(f)
             nested = [e for e in launch.elements if e.tag == "arg" and e.path == path
                       and "name" in e.attrs and e.attrs["name"].value == f.name]
-            if _is_python(path):
-                hint = (f" (the DeclareLaunchArgument('{f.name}') on line {nested[0].span.start.line + 1} is inside "
-                        f"a {PYTHON_CLASSES.get(nested[0].parent.tag, nested[0].parent.tag)}: feature arguments are "
-                        "declared in the LaunchDescription itself)"
+            hint = (f" (the <arg name=\"{f.name}\"> on line {nested[0].span.start.line + 1} is inside "
+                    f"<{nested[0].parent.tag}>: feature args are direct children of <launch>)"
+                    if nested and nested[0].parent is not None else "")
+            if _is_py(path):
+                hint = (f" (the DeclareLaunchArgument('{f.name}') on line {nested[0].span.start.line + 1} is "
+                        "inside a GroupAction: feature arguments are declared in the LaunchDescription itself)"
                         if nested and nested[0].parent is not None and nested[0].parent.tag != "launch" else "")
-                has_no = f"has no DeclareLaunchArgument('{f.name}')"
+                what = f"no DeclareLaunchArgument('{f.name}') in its LaunchDescription"
             else:
-                hint = (f" (the <arg name=\"{f.name}\"> on line {nested[0].span.start.line + 1} is inside "
-                        f"<{nested[0].parent.tag}>: feature args are direct children of <launch>)"
-                        if nested and nested[0].parent is not None else "")
-                has_no = f"has no top-level <arg name=\"{f.name}\"/>"
+                what = f"no top-level <arg name=\"{f.name}\"/>"
             out.append(Diagnostic(
                 MISSING_ARG, Severity.WARNING, path, root_span,
-                f"feature `{name}` of {model_name} {has_no}: "
+                f"feature `{name}` of {model_name} has {what}: "
                 f"configurations cannot select or deselect it{hint}",
                 related=[Related(f.path, f.name_span, f"feature `{name}` is declared here")],
                 data={"feature": f.name}, fixes=insert_arg(f.name, f.long_name)))
@@ -344,7 +338,7 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             # a void model has no product: the model reports void-model; nothing else is true
             return out
         out += _facts(launch, logic, model_name)
-        out += _dead_and_constant(launch, logic, model_name, model is not None, analysis, launch_text)
+        out += _dead_and_constant(launch, logic, model_name, model is not None, analysis)
     finally:
         if own_logic:
             logic.close()
@@ -531,7 +525,7 @@ def _explain(analysis, enc, cond: fm.Formula) -> tuple[str, list[Related]]:
 
 
 def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], modelled: bool,
-                       analysis=None, text: Optional[str] = None) -> list[Diagnostic]:
+                       analysis=None) -> list[Diagnostic]:
     out: list[Diagnostic] = []
     root = launch.root
     if root is None:
@@ -630,7 +624,7 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                 because, rel = _explain(analysis, enc, cond) if modelled and cond != fm.FALSE else ("", [])
                 out.append(Diagnostic(
                     DEAD_ELEMENT, Severity.WARNING, e.path, _start_tag(e),
-                    f'{_describe_element(e)} is never loaded: {why} ({_condition_text(e, attr, text)}).{because}',
+                    f'{_describe_element(e)} is never loaded: {why} ({_cond_shown(e, attr)}).{because}',
                     related=feature_related(cond) + rel, data={"condition": str(cond)}))
             return
         if parent is not None and _has_cond(e):
@@ -650,7 +644,7 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                     because, rel = _explain(analysis, enc, fm.conj([pc, fm.neg(cond)])) if modelled else ("", [])
                     out.append(Diagnostic(
                         CONSTANT_CONDITION, Severity.INFORMATION, e.path, attr.value_span,
-                        f'{_condition_text(e, attr, text)} is always {value} {scope}: it {eff} '
+                        f'{_cond_shown(e, attr)} is always {value} {scope}: it {eff} '
                         f"{_describe_element(e)}, so the condition can be removed.{because}",
                         related=feature_related(cond) + rel,
                         data={"condition": str(cond), "value": key == "if"}))

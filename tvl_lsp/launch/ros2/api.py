@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from dataclasses import dataclass, field
 from typing import Iterable, Mapping, Optional
@@ -24,7 +25,13 @@ E = Severity.ERROR
 def _packages(workspace_root: Optional[str], packages: Optional[Mapping[str, str]]) -> dict[str, str]:
     if packages is not None:
         return dict(packages)
-    return {n: os.path.realpath(p.folder) for n, p in find_ament_packages(workspace_root).items()}
+    return dict(_real_folders(tuple((n, p.folder) for n, p in find_ament_packages(workspace_root).items())))
+
+
+@functools.lru_cache(maxsize=32)
+def _real_folders(folders: tuple) -> tuple:
+    """(name, real folder) of each package (remembered: a workspace's files are checked one by one)."""
+    return tuple((n, os.path.realpath(f)) for n, f in folders)
 
 
 def load_error_code(err: A.LoadError) -> str:
@@ -149,17 +156,20 @@ def free_args2(text: str, path: str, unused: bool = False) -> list[str]:
     generic file paired with a model: its top-level args are the product's)."""
     if path.endswith(".py"):
         u = _python_unit(text, path)
-        if u is None:
-            return []
-        # arguments an OpaqueFunction reads are used as strings there
-        bad = {x.args[0] for x in getattr(u.doc.root, "substs", []) if x.attr == "python" and x.args}
-        return [n for n in free_args_of(u.actions, unused) if n not in bad]
+        return python_free_args(u, unused) if u is not None else []
     from .frontend import parse_launch_file
     doc = parse_launch_file(text, path)
     if doc.root is None:
         return []
     acts, _ = A.parse_description(doc.root, path)
     return free_args_of(acts, unused)
+
+
+def python_free_args(u, unused: bool = False) -> list[str]:
+    """:func:`free_args_of` of a Python launch file's unit: arguments an OpaqueFunction reads are
+    used as strings there (not free)."""
+    bad = {x.args[0] for x in getattr(u.doc.root, "substs", []) if x.attr == "python" and x.args}
+    return [n for n in free_args_of(u.actions, unused) if n not in bad]
 
 
 def _python_unit(text: str, path: str):
@@ -235,7 +245,8 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
         root_el.condition = TRUE
         w.diagnostics.extend(_root_diagnostics(w, path, u.errors))
         tops = [a for a in u.actions if isinstance(a, A.ArgA)]
-        free = list(features) if features is not None else free_args_of(u.actions)
+        free = list(features) if features is not None else python_free_args(u) if u.python is False and \
+            getattr(u.doc, "kind", "") == "py" else free_args_of(u.actions)
         root_args: dict = {}
         for f in free:
             root_args[f] = [(Var(f), "true"), (neg(Var(f)), "false")]
@@ -271,8 +282,10 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
             if el is None or "name" not in el.attrs:
                 continue
             at = el.attrs
-            feature_decls.append(ArgDecl(a.name, el.span, at["name"].value_span,
-                                         at["default"].value if "default" in at else None, None,
+            default = at["default"].value if "default" in at else None
+            if getattr(a.entity, "kind", "") == "py":   # one place of a Python file may declare several
+                default = S.plain(a.default.parts) if a.default is not None else None
+            feature_decls.append(ArgDecl(a.name, el.span, at["name"].value_span, default, None,
                                          a.description, path, el))
     la = LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, merge_facts(w.facts),
                         w.includes, [], root_el, "ros2")

@@ -25,6 +25,7 @@ from ..ros2 import actions as A
 from ..ros2 import subst as S
 from ..ros2.frontend import Entity, RAttr
 from .launchapi import CONDITIONS, SOURCES, SUBSTITUTIONS
+from .classes import PyInstance
 from .values import LObj, PathObj, SStr, Unknown, Where, marked
 
 
@@ -79,6 +80,7 @@ class Converter:
     def __init__(self, path: str, root: PyEntity):
         self.path = path
         self.root = root
+        self.unit = None   # the PyUnit (an instance's perform() is interpreted through it)
         self.entities: dict = {}
         self.substs_seen: set = set()
         self.cur: Optional[PyEntity] = None
@@ -162,12 +164,22 @@ class Converter:
                     continue
                 out.extend(self.parts(x, hard, attr, depth + 1))
             return out or [_text("")]
+        if isinstance(v, PyInstance):
+            if v.cls.derives_from("Substitution"):
+                sub = _sub("py-perform", [], self.where_of(v), hard)
+                sub.instance = v
+                sub.unit = self.unit
+                return [sub]
+            return [self.unknown(Unknown(f"a {v.cls.name} where launch expects a string or a substitution"), hard)]
         if isinstance(v, PathObj):
             return [self.unknown(Unknown("a pathlib.Path where launch 3.7.1 expects a string or a substitution "
                                          "(newer launch versions accept it)"), hard)]
         what = "None" if v is None else type(v).__name__
         return [self.unknown(Unknown(f"a {what} where launch expects a string or a substitution (launch raises "
                                      "TypeError)"), hard)]
+
+    def where_of(self, v) -> Optional[Where]:
+        return None
 
     def unknown(self, u: Unknown, hard: bool) -> S.Sub:
         w = u.where if u.where is not None and u.where[0] == self.path else None
@@ -295,11 +307,17 @@ class Converter:
         return A.Cond("if", val)
 
     def _cond_attr(self, e: PyEntity, o: LObj, name: str, val: PyValue, shown: Optional[str] = None) -> None:
+        """``if`` / ``unless`` as the XML front end has them (what the checks read: ``$(var x)``),
+        and ``condition``: the Python text, for messages."""
         aw = o.extra.get("arg_where", {}).get("condition")
         if aw and aw[0][0] == self.path and name not in e.attrs:
             nspan = aw[1][1] if aw[1] is not None else aw[0][1]
             e.attrs[name] = RAttr(name, shown or S.plain(val.parts), nspan, aw[0][1], None, 0, False, None)
             e._read.add(name)
+            src = _source(o, aw[0][1])
+            if src is not None:
+                e.attrs["condition"] = RAttr("condition", src, nspan, aw[0][1], None, 0, False, None)
+                e._read.add("condition")
 
     # ------------------------------------------------------------------ actions
     def actions(self, ents, parent: Optional[PyEntity]) -> list:
@@ -338,6 +356,9 @@ class Converter:
         if not isinstance(o, LObj):
             if isinstance(o, Unknown):
                 return self.unknown_action(o, parent)
+            if isinstance(o, PyInstance):
+                return self.unknown_action(Unknown(f"an action of the class {o.cls.name} defined in Python (its "
+                                                   "execute() is not modelled)", o.cls.where), parent)
             what = "None" if o is None else type(o).__name__
             return self.unknown_action(Unknown(f"a {what} in the list of actions (launch fails on it)"), parent)
         fn = getattr(self, "a_" + o.cls, None)
@@ -754,6 +775,17 @@ class Converter:
 
     def a_OnShutdown(self, o, parent):
         return self.unknown_action(Unknown("an event handler outside RegisterEventHandler", o.where), parent)
+
+
+def _source(o: LObj, span: Span, limit: int = 200) -> Optional[str]:
+    """The text of the file at ``span`` (one line, shortened) -- an argument as written."""
+    m = o.extra.get("module")
+    if m is None:
+        return None
+    idx = m.index
+    text = idx.text[idx.offset(span.start):idx.offset(span.end)]
+    text = " ".join(text.split())
+    return text if len(text) <= limit else text[:limit - 1] + "…"
 
 
 def _describe_target(t) -> str:

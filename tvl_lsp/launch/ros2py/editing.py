@@ -22,8 +22,8 @@ line of its own among the ``launch`` imports.  Where none of this applies (no
 ``generate_launch_description``, a description built in a way these rules do not cover) the
 planner returns None: no fix rather than a wrong one.
 
-:func:`launch_description_span` is the range a file-level finding about a Python launch file
-points at (the ``LaunchDescription`` the file returns, as ``<launch>`` for XML).
+The completion of names in the file's strings asks :func:`string_context` what the string at
+the cursor names (a launch configuration, a new argument, an include's argument).
 """
 
 from __future__ import annotations
@@ -123,25 +123,6 @@ def _returned_description(src: _Src, fn: ast.FunctionDef):
                         and _callee(st.value) == "LaunchDescription":
                     return st.value, v.id
     return None, None
-
-
-def launch_description_span(text: str, path: str) -> Optional[Span]:
-    """The name ``LaunchDescription`` of the description ``generate_launch_description()``
-    returns (else the function's name), or None (not Python, no such function)."""
-    from .frontend import parse_python
-    tree, _ = parse_python(text, path)
-    if tree is None:
-        return None
-    fn = _generate_function(tree)
-    if fn is None:
-        return None
-    src = _Src(text, tree)
-    call, _ = _returned_description(src, fn)
-    if call is not None:
-        return src.span(call.func)
-    line = fn.lineno - 1
-    col = src.index.line_text(line).find(fn.name)
-    return Span(Pos(line, max(col, 0)), Pos(line, max(col, 0) + len(fn.name))) if col >= 0 else None
 
 
 # ------------------------------------------------------------------ the new call's text

@@ -354,4 +354,7 @@ class Exprs:
                           f"module '{obj.name}' has no attribute '{name}'", m.where(n))
         if isinstance(obj, Sym):
             return self.funcs.resolve(self, f"{obj.qual}.{name}", m, n, importing)
+        got = self.classes.get_attr(self, obj, name, m, n)
+        if got is not None:
+            return got
         return self.lib.attribute(self, obj, name, m, n, importing)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ast
 import os
+import sys
 import threading
 from typing import Optional
 
@@ -81,6 +82,11 @@ def parse_python(text: str, path: str):
             _TREES_CHARS[0] -= k[1]
             del _TREES[k]
     return tree, None
+
+
+# modules that are never a workspace's: the standard library and the launch packages
+_NEVER_WORKSPACE = frozenset(sys.stdlib_module_names) | {"launch", "launch_ros", "launch_xml", "launch_yaml",
+                                                         "ament_index_python", "yaml", "xacro"}
 
 
 class PyHost:
@@ -160,6 +166,8 @@ class PyHost:
     def workspace_module(self, name: str, interp: Interp):
         if name in self.module_cache:
             return self.module_cache[name]
+        if name.split(".", 1)[0] in _NEVER_WORKSPACE:
+            return None
         path = self._module_file(name)
         if path is None:
             return None
@@ -191,9 +199,11 @@ class PyHost:
             return None
         roots = [r for r in self.sys_path.added if self.w.in_workspace(os.path.join(r, "x"))]
         if not self.concrete:
-            for folder in self.w.packages.values():
-                roots.append(folder)
-                roots.append(os.path.join(folder, "src"))
+            # an installed package's Python modules: a ROS package installs the Python package of
+            # its own name (ament_python, ament_python_install_package)
+            folder = self.w.packages.get(parts[0])
+            if folder is not None:
+                roots += [folder, os.path.join(folder, "src")]
             roots.append(os.path.dirname(self.unit_path))
         found = None
         for r in roots:
@@ -324,6 +334,14 @@ def load_unit(w, path: str, text: str) -> Unit:
         doc.diagnostics.append(Diagnostic(PY_SYNTAX, Severity.ERROR, path, span, msg))
         doc.error = ("ParseError", msg, span)
         return Unit(path, doc, [], [A.LoadError("ParseError", msg, span, path)])
+    gen_def = next((st for st in tree.body if isinstance(st, ast.FunctionDef)
+                    and st.name == "generate_launch_description"), None)
+    if gen_def is not None:
+        # the launch description's place: where a missing argument would be declared
+        line = gen_def.lineno - 1
+        col = idx.line_text(line).find("generate_launch_description")
+        if col >= 0:
+            root.span = root.tag_span = Span(Pos(line, col), Pos(line, col + len("generate_launch_description")))
     host = PyHost(w, path)
     conv = Converter(path, root)
     m = ModuleNS(path, text, idx, "python_launch_file", {}, tree)
@@ -331,6 +349,7 @@ def load_unit(w, path: str, text: str) -> Unit:
     m.globals["__file__"] = path
     unit = PyUnit(host, conv, m)
     host.unit = unit
+    conv.unit = unit
     interp = Interp(host)
     acts: list = []
     errors: list = []

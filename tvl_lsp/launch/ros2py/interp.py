@@ -24,7 +24,8 @@ from typing import Callable, Optional
 
 from .. import evalguard as guard
 from .exprs import _CONTAINERS, _PLAIN, Exprs, first_unknown, plain_value
-from .values import (Builtin, BoundMethod, Decline, Env, Func, LClass, LObj, ModuleNS, PathObj, PyClass, PyError,
+from .classes import PyClass
+from .values import (Builtin, BoundMethod, Decline, Env, Func, LClass, LObj, ModuleNS, PathObj, PyError,
                      SStr, Sym, Unknown, marked, type_name)
 
 MAX_STEPS = 300_000
@@ -60,7 +61,8 @@ class Interp(Exprs):
         self.depth = 0
         self.expr_depth = 0
         self.callsites: list = []   # (path, span) of the calls being interpreted
-        from . import launchapi, library, pyfuncs
+        from . import classes, launchapi, library, pyfuncs
+        self.classes = classes
         self.lib = library
         self.funcs = pyfuncs
         self.api = launchapi
@@ -135,8 +137,7 @@ class Interp(Exprs):
         elif t in (ast.FunctionDef, ast.AsyncFunctionDef):
             self.define_function(st, env, m)
         elif t is ast.ClassDef:
-            bases = [self.ev(b, env, m) for b in st.bases]
-            self.set_name(st.name, PyClass(st.name, m.where(st), bases), env, m)
+            self.set_name(st.name, self.classes.define(self, st, env, m), env, m)
         elif t in (ast.Import, ast.ImportFrom):
             self.exec_import(st, env, m)
         elif t is ast.Pass:
@@ -390,6 +391,8 @@ class Interp(Exprs):
             if isinstance(obj, LObj):
                 obj.extra[tgt.attr] = v
                 return
+            if self.classes.set_attr(obj, tgt.attr, v):
+                return
             raise Decline(f"tvl-lsp does not model setting an attribute of a {type_name(obj)}", m.where(tgt))
         elif t is ast.Starred:
             self.assign(tgt.value, v, env, m)
@@ -472,6 +475,9 @@ class Interp(Exprs):
 
 
     def e_call(self, n, env, m):
+        if isinstance(n.func, ast.Name) and n.func.id == "super" and not n.args and not n.keywords and \
+                "super" not in m.globals:
+            return self.classes.make_super(self, env, m, n)
         f = self.ev(n.func, env, m)
         args = []
         for a in n.args:
@@ -508,8 +514,9 @@ class Interp(Exprs):
             return self.lib.call_method(self, f, args, kwargs, m, n)
         if isinstance(f, Sym):
             return self.funcs.call_symbol(self, f, args, kwargs, m, n)
-        if isinstance(f, PyClass):
-            return Unknown(f"an instance of the class {f.name} defined in Python (not modelled)", m.where(n))
+        r = self.classes.call(self, f, args, kwargs, m, n)
+        if r is not self.classes._NOT:
+            return r
         raise PyError("TypeError", f"'{type_name(f)}' object is not callable", m.where(n))
 
     def call_func(self, f: Func, args: list, kwargs: dict, m: ModuleNS, n):
@@ -518,6 +525,7 @@ class Interp(Exprs):
         fm = f.module
         env = Env(fm, f.closure)
         self.bind(f, args, kwargs, env, m, n)
+        env.vars["\x00func"] = f   # (for super())
         self.depth += 1
         self.callsites.append(m.where(n))
         try:
@@ -669,7 +677,22 @@ _OPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.FloorDiv: "
         ast.BitOr: "|", ast.BitAnd: "&", ast.BitXor: "^", ast.LShift: "<<", ast.RShift: ">>"}
 
 
+_GENERATORS: dict = {}
+
+
 def _is_generator(node) -> bool:
+    k = id(node)
+    got = _GENERATORS.get(k)
+    if got is not None and got[0] is node:
+        return got[1]
+    r = _has_yield(node)
+    if len(_GENERATORS) > 50_000:
+        _GENERATORS.clear()
+    _GENERATORS[k] = (node, r)
+    return r
+
+
+def _has_yield(node) -> bool:
     stack = list(node.body)
     while stack:
         x = stack.pop()

@@ -79,8 +79,36 @@ def construct(interp, cls: LClass, args: list, kwargs: dict, m: ModuleNS, n):
     return o
 
 
+def _str_item(x):
+    """str() of a plain value, as a constructor normalizes it (an unknown or a launch object stays)."""
+    if isinstance(x, (Unknown, LObj)) or isinstance(x, str):
+        return x
+    if isinstance(x, (bool, int, float)) or x is None:
+        return str(x)
+    return x
+
+
+def normalize(o: LObj) -> None:
+    """The constructors that turn plain values into text themselves."""
+    if o.cls == "LaunchConfiguration":
+        d = o.args.get("default")
+        if d is not None and not isinstance(d, (str, LObj, Unknown)):
+            items = list(d) if isinstance(d, (list, tuple)) else [d]
+            o.args["default"] = [_str_item(x) for x in items]
+    elif o.cls in ("EqualsSubstitution", "NotEqualsSubstitution"):
+        for k in ("left", "right"):
+            v = o.args.get(k)
+            if v is None:
+                o.args[k] = ""
+            elif isinstance(v, bool):
+                o.args[k] = str(v).lower()
+            elif isinstance(v, (int, float)):
+                o.args[k] = str(v)
+
+
 def check(interp, o: LObj, m: ModuleNS, n) -> None:
     """What the constructors check themselves (the file fails to load at once)."""
+    normalize(o)
     if o.cls in ("Node", "LifecycleNode", "ComposableNodeContainer", "ComposableNode"):
         _check_params(o.get("parameters"), m, n)
     if o.cls == "DeclareLaunchArgument":
@@ -145,6 +173,12 @@ def attribute(interp, o: LObj, name: str, m: ModuleNS, n):
             return list(o.args.setdefault("initial_entities", []) or [])
         from .values import BoundMethod
         return BoundMethod(o, name, m.where(n))
+    if name in ("evaluate", "_predicate_func") and o.cls in CONDITIONS:
+        from .values import BoundMethod
+        return BoundMethod(o, "evaluate", m.where(n))
+    if name == "find" and o.cls in ("FindPackageShare", "FindPackagePrefix", "FindPackage"):
+        from .values import BoundMethod
+        return BoundMethod(o, name, m.where(n))
     if name == "perform" and o.cls in SUBSTITUTIONS:
         from .values import BoundMethod
         return BoundMethod(o, name, m.where(n))
@@ -181,7 +215,37 @@ def call_method(interp, o: LObj, name: str, args: list, kwargs: dict, m: ModuleN
     if name == "perform":
         ctx = args[0] if args else kwargs.get("context")
         return interp.host.perform(ctx, o, m, n)
+    if name == "evaluate" and o.cls in CONDITIONS:   # condition.evaluate(context) in an OpaqueFunction
+        return evaluate_condition(interp, o, args[0] if args else kwargs.get("context"), m, n)
+    if name == "find":   # FindPackageShare(...).find(package_name): the folder, at once
+        from .library import package_share
+        return package_share(interp, args, kwargs, m, n, prefix=o.cls != "FindPackageShare")
     return Unknown(f"{o.cls}.{name}() is not modelled", m.where(n))
+
+
+def evaluate_condition(interp, o: LObj, ctx, m: ModuleNS, n):
+    """A condition's value with the launch context (IfCondition: launch's
+    evaluate_condition_expression of the performed text)."""
+    if o.cls in ("IfCondition", "UnlessCondition"):
+        v = interp.host.perform(ctx, o.get("predicate_expression"), m, n)
+        if isinstance(v, Unknown):
+            return v
+        lv = str(v).strip().lower()
+        if lv not in ("true", "1", "false", "0"):
+            raise PyError("InvalidConditionExpressionError", "invalid condition expression, expected one of "
+                          f"[true, 1, false, 0] but got '{lv}'", m.where(n), sure=True)
+        r = lv in ("true", "1")
+        return r if o.cls == "IfCondition" else not r
+    if o.cls in ("LaunchConfigurationEquals", "LaunchConfigurationNotEquals"):
+        cur = interp.host.launch_configuration(o.get("launch_configuration_name"), None, m, n)
+        exp = o.get("expected_value")
+        if exp is not None and not isinstance(exp, str):
+            exp = interp.host.perform(ctx, exp, m, n)
+        if isinstance(cur, Unknown) or isinstance(exp, Unknown):
+            return cur if isinstance(cur, Unknown) else exp
+        r = (cur == exp) if cur is not None else exp is None
+        return r if o.cls == "LaunchConfigurationEquals" else not r
+    return Unknown(f"the condition {o.cls}", m.where(n))
 
 
 def subscript(interp, o: LObj, key, m: ModuleNS, n):

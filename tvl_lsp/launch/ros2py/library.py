@@ -16,8 +16,9 @@ from typing import Optional
 
 from ...base import yamlsafe
 from .. import evalguard as guard
+from .classes import BoundFunc, PyClass, PyInstance, SuperProxy
 from .values import (SysPath, Builtin, BoundMethod, Decline, EnvMap, FileObj, Func, LaunchCtx, LClass, LCMap, LObj, ModuleNS,
-                     PathObj, PyClass, PyError, Sym, Unknown, marked, type_name)
+                     PathObj, PyError, Sym, Unknown, marked, type_name)
 
 _PLAIN = (str, int, float, bool, type(None))
 
@@ -103,6 +104,9 @@ def percent_format(interp, a: str, b, m: ModuleNS, n):
 
 # ------------------------------------------------------------------ operators
 
+_OBJECTS = (Func, Builtin, Sym, LClass, BoundMethod, PyClass, PyInstance, BoundFunc, SuperProxy, EnvMap, LaunchCtx,
+            LCMap, FileObj)
+
 def binop_special(interp, op, a, b, m: ModuleNS, n):
     if isinstance(op, ast.Div) and isinstance(a, PathObj):
         if isinstance(b, PathObj):
@@ -115,8 +119,7 @@ def binop_special(interp, op, a, b, m: ModuleNS, n):
         return PathObj(posixpath.join(a, b.path))
     if isinstance(a, LObj) or isinstance(b, LObj):
         return interp.api.binop(interp, op, a, b, m, n)
-    if isinstance(a, (Func, Builtin, Sym, LClass, BoundMethod, PyClass, EnvMap, LaunchCtx, LCMap, FileObj)) or \
-            isinstance(b, (Func, Builtin, Sym, LClass, BoundMethod, PyClass, EnvMap, LaunchCtx, LCMap, FileObj)):
+    if isinstance(a, _OBJECTS) or isinstance(b, _OBJECTS):
         if isinstance(a, Sym) or isinstance(b, Sym):
             s = a if isinstance(a, Sym) else b
             return Unknown(f"{s.qual} is not modelled", m.where(n))
@@ -199,7 +202,17 @@ def _path_arg(interp, v, m, n) -> Optional[str]:
 def read_text(interp, path, m: ModuleNS, n):
     """The text of a file the launch file reads.  Reading a file that may not exist raises in
     Python: where tvl-lsp cannot read it (a path it cannot know, relative to the folder ros2 launch
-    runs in, outside the workspace), the analysis declines there."""
+    runs in, outside the workspace), the concrete load declines there; the symbolic analysis goes
+    on with unknown content (the file may well be there on the machine that launches)."""
+    try:
+        return _read_text(interp, path, m, n)
+    except Decline as d:
+        if interp.host.concrete:
+            raise
+        return Unknown(d.reason, d.where)
+
+
+def _read_text(interp, path, m: ModuleNS, n):
     p = _path_arg(interp, path, m, n)
     if p is None:
         why = path.reason if isinstance(path, Unknown) else f"a file named by a {type_name(path)}"
@@ -287,7 +300,7 @@ def open_file(interp, args, kwargs, m, n):
         raise Decline("the file opens a file for writing: tvl-lsp never writes files", m.where(n))
     t = read_text(interp, args[0] if args else kwargs.get("file"), m, n)
     if isinstance(t, Unknown):
-        return t
+        return t   # (the symbolic analysis: a file of the machine that launches)
     return FileObj(t)
 
 

@@ -16,6 +16,7 @@ from typing import Optional
 
 from .. import evalguard as guard
 from . import apitable
+from .classes import PyClass, is_instance
 from .library import (_plain_items, _strs, _unknown_in, environ_get, exists, interp_plain, json_load, open_file,
                       package_share, to_str, yaml_load)
 from .values import (BoundMethod, Builtin, Decline, EnvMap, Func, LClass, LObj, ModuleNS, PathObj, PyError, Sym, Unknown, marked,
@@ -353,6 +354,10 @@ def _isinstance(interp, args, kwargs, m, n):
                 return True
             continue
         if isinstance(x, LClass):
+            continue
+        if isinstance(x, PyClass):
+            if is_instance(v, x):
+                return True
             continue
         return Unknown("isinstance() with a type tvl-lsp does not model", m.where(n))
     return False

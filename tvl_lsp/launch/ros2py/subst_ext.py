@@ -81,5 +81,37 @@ def _py_unknown(w, sub, v, sc, c, el):
     return [(c, OPAQUE)]
 
 
+def _py_perform(w, sub, v, sc, c, el):
+    """An instance of a Substitution subclass of the file: its perform(context), interpreted with
+    the arguments' values (once per combination of the values it reads)."""
+    from .actions import MAX_WORLDS, World
+    from .values import Decline, Func, LaunchCtx, PyError, Unknown
+    inst, unit = getattr(sub, "instance", None), getattr(sub, "unit", None)
+    fn, _ = inst.cls.lookup("perform") if inst is not None else (None, None)
+    if unit is None or not isinstance(fn, Func):
+        return [(c, OPAQUE)]
+    out = []
+    worlds = [()]
+    done = 0
+    while worlds:
+        prefix = worlds.pop(0)
+        done += 1
+        if done > MAX_WORLDS:
+            return merge(out + [(c, OPAQUE)])
+        world = World(w, sc, el, c, prefix)
+        try:
+            r = unit.call_opaque(world, fn, [inst, LaunchCtx()], {}, None)
+        except (Decline, PyError):
+            r = None
+        worlds.extend(world.pending)
+        if world.guard == FALSE:
+            continue
+        if isinstance(r, str) and not isinstance(r, Unknown):
+            out.append((world.guard, str(r)))
+        else:
+            out.append((world.guard, OPAQUE))
+    return merge(out)
+
+
 SUB.EXTRA.update({"path-join": _path_join, "text": _text, "lc-equals": _lc_equals, "lc-not-equals": _lc_equals,
-                  "py-unknown": _py_unknown})
+                  "py-unknown": _py_unknown, "py-perform": _py_perform})

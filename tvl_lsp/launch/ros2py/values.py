@@ -89,6 +89,8 @@ class ModuleNS:
     globals: dict = field(default_factory=dict)
     tree: Optional[ast.Module] = None
     _ascii: Optional[bool] = None
+    _spans: dict = field(default_factory=dict)     # id(node) -> Span (the tree lives as long)
+    _literals: dict = field(default_factory=dict)  # id(node) -> the range between its quotes
 
     def pos(self, line: int, col_bytes: int) -> Pos:
         """ast's (1-based line, UTF-8 byte column) as a code-point position."""
@@ -101,6 +103,13 @@ class ModuleNS:
         return Pos(ln, len(t.encode("utf-8")[:col_bytes].decode("utf-8", "replace")))
 
     def span(self, node) -> Span:
+        k = id(node)
+        sp = self._spans.get(k)
+        if sp is None:
+            sp = self._spans[k] = self._span(node)
+        return sp
+
+    def _span(self, node) -> Span:
         s = self.pos(getattr(node, "lineno", 1), getattr(node, "col_offset", 0))
         end_line = getattr(node, "end_lineno", None)
         if end_line is None:
@@ -112,6 +121,12 @@ class ModuleNS:
 
     def literal_where(self, node: ast.Constant) -> Optional[Where]:
         """The range between the quotes of a plain one-line string literal (None otherwise)."""
+        k = id(node)
+        if k not in self._literals:
+            self._literals[k] = self._literal_where(node)
+        return self._literals[k]
+
+    def _literal_where(self, node: ast.Constant) -> Optional[Where]:
         if getattr(node, "end_lineno", None) != node.lineno:
             return None
         sp = self.span(node)
@@ -165,14 +180,6 @@ class Sym:
 
     def __repr__(self) -> str:
         return f"Sym({self.qual})"
-
-
-@dataclass(eq=False)
-class PyClass:
-    """A class defined in an interpreted module (instances are not modelled)."""
-    name: str
-    where: Optional[Where]
-    bases: list
 
 
 @dataclass(eq=False)
@@ -288,4 +295,7 @@ def type_name(v) -> str:
         return "function"
     if isinstance(v, PathObj):
         return "PosixPath"
+    cls = getattr(v, "cls", None)
+    if cls is not None and hasattr(cls, "mro"):
+        return cls.name   # an instance of a class of the file
     return type(v).__name__

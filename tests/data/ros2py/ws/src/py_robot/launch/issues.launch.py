@@ -1,6 +1,7 @@
 # generic.launch.py with planted problems (for the cross-check with generic.tvl):
 # 'Sonar' is no feature, 'Teleop' has no argument, 'ghost' runs in no product (Fusion without
-# Lidar is impossible), and two nodes named 'drive' run together when Diff and Camera do.
+# Lidar is impossible), two nodes named 'drive' run together when Diff and Camera do, and the
+# condition of 'base_monitor' holds in every product (Base is mandatory).
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument
 from launch.conditions import IfCondition
@@ -27,4 +28,6 @@ def generate_launch_description():
                                                      LaunchConfiguration('Lidar'), "' == 'false'"]))),
         Node(package='py_robot', executable='sonar', name='sonar',
              condition=IfCondition(LaunchConfiguration('Sonar'))),
+        Node(package='py_robot', executable='base_monitor', name='base_monitor',
+             condition=IfCondition(LaunchConfiguration('Base'))),
     ])
