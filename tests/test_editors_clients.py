@@ -98,6 +98,23 @@ def test_launch_and_model_extensions_are_files_the_server_analyses():
         assert file_kind(f"/ws/src/pkg/launch/generic{e}") in ("tvl", "launch"), e
 
 
+def test_vscode_selects_python_launch_files_and_no_other_python():
+    """ROS 2 Python launch files are selected by name in the python language (the Python
+    extension keeps every other .py file, and these too), watched, and activate the extension."""
+    src = (EXT / "src" / "extension.ts").read_text()
+    m = re.search(r"language: 'python', pattern: '\*\*/\*\{([^}]*)\}'", src)
+    assert m, "no document selector for Python launch files"
+    suffixes = m.group(1).split(",")
+    assert set(suffixes) == {".launch.py", "_launch.py"}
+    for suffix in suffixes:
+        assert file_kind(f"/ws/src/pkg/launch/robot{suffix}") == "launch"
+        assert f"*{suffix}" in re.search(r"createFileSystemWatcher\(\s*'([^']*)'", src).group(1)
+        assert f"workspaceContains:**/*{suffix}" in PACKAGE["activationEvents"]
+    for plain in ("/ws/src/pkg/pkg/util.py", "/ws/src/pkg/setup.py", "/ws/src/pkg/launch/helpers.py"):
+        assert file_kind(plain) is None
+    assert "onLanguage:python" not in PACKAGE["activationEvents"]
+
+
 def test_neovim_filetypes_reach_the_lsp_config():
     ftdetect = (NVIM_DIR / "ftdetect" / "tvl.lua").read_text()
     config = (NVIM_DIR / "lsp" / "tvl_lsp.lua").read_text()

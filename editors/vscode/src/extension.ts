@@ -22,7 +22,7 @@ import { bundledWheel, ensureServer, readyServer, ServerCommand } from './bootst
 // for the unit tests (test/unit), which load the bundle
 export { bundledWheel, environmentKey, ensureServer, findPython, readyServer } from './bootstrap';
 
-import { ConfiguratorPanel } from './configurator';
+import { ConfiguratorPanel, MODEL_OR_LAUNCH } from './configurator';
 
 const SECTION = 'tvl-lsp';
 let client: LanguageClient | undefined;
@@ -223,7 +223,7 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
     debug: { command: how.command, args: how.args },
   };
   const watcher = vscode.workspace.createFileSystemWatcher(
-    '**/{*.tvl,*.launch,*.launch.xml,*.test,*.yaml,*.yml,package.xml}',
+    '**/{*.tvl,*.launch,*.launch.xml,*.test,*.yaml,*.yml,*.launch.py,*_launch.py,package.xml}',
   );
   context.subscriptions.push(watcher);
   const clientOptions: LanguageClientOptions = {
@@ -234,6 +234,9 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
       { scheme: 'file', language: 'xml', pattern: '**/*{.launch,.launch.xml,_launch.xml,.test}' },
       // ROS 2 launch files in YAML (the yaml language keeps its highlighting)
       { scheme: 'file', language: 'yaml', pattern: '**/*{.launch.yaml,.launch.yml,_launch.yaml,_launch.yml}' },
+      // ROS 2 launch files in Python: only these names (every other Python file stays the Python
+      // extension's alone; launch files keep its highlighting, completion and checks too)
+      { scheme: 'file', language: 'python', pattern: '**/*{.launch.py,_launch.py}' },
     ],
     synchronize: { fileEvents: watcher },
     initializationOptions: { [SECTION]: serverSettings() },
@@ -296,7 +299,7 @@ function running(): LanguageClient | undefined {
 /** The model or launch file the command is about: the active editor's file. */
 function activeUri(): string | undefined {
   const doc = vscode.window.activeTextEditor?.document;
-  if (!doc || !/\.(tvl|launch|test)$|\.launch\.xml$/i.test(doc.fileName)) {
+  if (!doc || !MODEL_OR_LAUNCH.test(doc.fileName)) {
     void vscode.window.showErrorMessage('Open a TVL model or a launch file paired with one first.');
     return undefined;
   }
