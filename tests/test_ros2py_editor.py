@@ -333,6 +333,46 @@ async def test_rename_an_argument_of_an_included_file_from_its_key(client: Langu
     assert "{'hz': '10', 'frame': 'sonar_link'}" in apply(clean.read_text(), by[clean.as_uri()], enc)
 
 
+async def test_names_read_in_an_opaque_function(client: LanguageClient):
+    """``context.launch_configurations['x']`` and ``LaunchConfiguration('x').perform(context)``
+    are references of the argument: found, and renamed."""
+    path = client.launch_dir / "camera.launch.py"
+    text = path.read_text()
+    uri = open_doc(client, path)
+    enc = client.enc
+    locs = await _locations(client, "references", uri, find(text, "launch_configurations['Camera']", enc, offset=24))
+    assert _texts(client, locs) == [("camera.launch.py", "Camera"), ("camera.launch.py", "Camera"),
+                                    ("camera.tvl", "Camera")]
+    edit = await client.text_document_rename_async(types.RenameParams(
+        text_document=tdi(uri), position=find(text, "LaunchConfiguration('fps')", enc, offset=22), new_name="rate"))
+    new = apply(text, edits_by_uri(edit)[uri], enc)
+    assert "DeclareLaunchArgument('rate', default_value='30')" in new
+    assert "LaunchConfiguration('rate').perform(context)" in new and "fps = " in new
+
+
+async def test_from_an_xml_file_that_includes_the_python_file(client: LanguageClient):
+    """An arg of an XML <include> of the generic .launch.py is the Python file's argument (and
+    its model's feature): declaration, and a rename that reaches all three files."""
+    sim = client.launch_dir / "sim.launch.xml"
+    text = sim.read_text()
+    uri = open_doc(client, sim)
+    enc = client.enc
+    pos = find(text, '<arg name="Lidar"', enc, offset=12)
+    locs = await _locations(client, "declaration", uri, pos)
+    assert [loc.uri for loc in locs] == [client.py_uri] and _texts(client, locs) == [("rover.launch.py", "Lidar")]
+    locs = await _locations(client, "definition", uri, pos)
+    assert _texts(client, locs) == [("rover.tvl", "Lidar")]
+    edit = await client.text_document_rename_async(types.RenameParams(text_document=tdi(uri), position=pos,
+                                                                      new_name="Laser"))
+    by = edits_by_uri(edit)
+    assert set(by) == {uri, client.py_uri, client.tvl_uri}
+    assert '<arg name="Laser" value="true"/>' in apply(text, by[uri], enc)
+    new_py = apply(client.py.read_text(), by[client.py_uri], enc)
+    # the declaration, the IfCondition and the use inside the PythonExpression
+    assert new_py.count("'Laser'") == 3 and "'Lidar'" not in new_py
+    ast.parse(new_py)
+
+
 async def test_rename_refuses_a_name_the_file_declares(client: LanguageClient):
     text = client.py.read_text()
     with pytest.raises(Exception, match="already"):
