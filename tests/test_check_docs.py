@@ -1,4 +1,5 @@
-"""docs/diagnostics.md documents every registered code, `tvl-lsp --explain` prints it, and the
+"""The diagnostics catalogue (tvl_lsp/data/diagnostics.md, package data) documents every registered
+code, `tvl-lsp --explain` prints it, and the
 complete examples (```tvl / ```xml blocks) really get their code."""
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from tvl_lsp.main import main
 from tvl_lsp.cli.commands.explain import doc_text, load_codes, sections
 
 ROOT = Path(__file__).resolve().parents[1]
-DOC = ROOT / "docs" / "diagnostics.md"
+DOC = ROOT / "tvl_lsp" / "data" / "diagnostics.md"
 CODES = load_codes()
 SECTIONS = sections(DOC.read_text(encoding="utf-8"))
 FENCE = re.compile(r"```(tvl|uvl|xml|text)\n(.*?)```", re.S)
@@ -21,13 +22,13 @@ FENCE = re.compile(r"```(tvl|uvl|xml|text)\n(.*?)```", re.S)
 
 def test_every_registered_code_has_a_section():
     missing = sorted(set(CODES) - set(SECTIONS))
-    assert missing == [], f"codes without a section in docs/diagnostics.md: {missing}"
+    assert missing == [], f"codes without a section in tvl_lsp/data/diagnostics.md: {missing}"
 
 
 @pytest.mark.parametrize("code", sorted(SECTIONS))
 def test_section_is_complete_and_matches_the_registry(code):
     sec = SECTIONS[code]
-    assert code in CODES, f"docs/diagnostics.md documents `{code}`, which no module registers"
+    assert code in CODES, f"tvl_lsp/data/diagnostics.md documents `{code}`, which no module registers"
     sev = CODES[code].severity.label
     assert f"**Severity:** {sev}" in sec
     assert FENCE.search(sec), "a minimal example"

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from tvl_lsp.lsp.features import commands as server_commands
+from tvl_lsp.lsp.features import commands as server_commands, explain
 from tvl_lsp.lsp.checks import file_kind
 from tvl_lsp.lsp.settings import Settings
 
@@ -77,7 +77,7 @@ def test_diagnostic_severity_values_match_the_server():
 
 def test_the_clients_call_server_commands_that_exist():
     server = {server_commands.INCLUDE, server_commands.EXCLUDE, server_commands.RESET,
-              server_commands.COUNT, server_commands.LIST, server_commands.GENERATE}
+              server_commands.COUNT, server_commands.LIST, server_commands.GENERATE, explain.EXPLAIN}
     src = (EXT / "src" / "extension.ts").read_text()
     called = set(re.findall(r"'(tvl-lsp\.[A-Za-z]+)'", src)) - {"tvl-lsp.running", "tvl-lsp.server"}
     assert called, "extension.ts calls no server command"
@@ -98,20 +98,24 @@ def test_launch_and_model_extensions_are_files_the_server_analyses():
         assert file_kind(f"/ws/src/pkg/launch/generic{e}") in ("tvl", "launch"), e
 
 
-def test_vscode_selects_python_launch_files_and_no_other_python():
-    """ROS 2 Python launch files are selected by name in the python language (the Python
-    extension keeps every other .py file, and these too), watched, and activate the extension."""
+def test_vscode_selects_python_launch_files():
+    """ROS 2 Python launch files reach the server (a python selector: by name, or every Python
+    file -- the nodes' sources are read too --; the Python extension keeps them all), are
+    watched, and a workspace that has them activates the extension.  The server analyses them
+    as launch files, and no other Python file as one."""
     src = (EXT / "src" / "extension.ts").read_text()
-    m = re.search(r"language: 'python', pattern: '\*\*/\*\{([^}]*)\}'", src)
-    assert m, "no document selector for Python launch files"
-    suffixes = m.group(1).split(",")
-    assert set(suffixes) == {".launch.py", "_launch.py"}
-    for suffix in suffixes:
+    selectors = re.findall(r"\{ scheme: 'file', language: 'python'(?:, pattern: '([^']*)')? \}", src)
+    assert selectors, "no document selector for Python files"
+    assert any(p == "" or {".launch.py", "_launch.py"} <= set(re.search(r"\{([^}]*)\}", p).group(1).split(","))
+               for p in selectors), selectors
+    call = src[src.index("createFileSystemWatcher("):]
+    watched = "".join(re.findall(r"'([^']*)'", re.sub(r"//[^\n]*", "", call[: call.index(");")])))
+    for suffix in (".launch.py", "_launch.py"):
         assert file_kind(f"/ws/src/pkg/launch/robot{suffix}") == "launch"
-        assert f"*{suffix}" in re.search(r"createFileSystemWatcher\(\s*'([^']*)'", src).group(1)
+        assert f"*{suffix}" in watched or "*.py" in watched
         assert f"workspaceContains:**/*{suffix}" in PACKAGE["activationEvents"]
     for plain in ("/ws/src/pkg/pkg/util.py", "/ws/src/pkg/setup.py", "/ws/src/pkg/launch/helpers.py"):
-        assert file_kind(plain) is None
+        assert file_kind(plain) != "launch"
     assert "onLanguage:python" not in PACKAGE["activationEvents"]
 
 

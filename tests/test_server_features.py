@@ -285,3 +285,32 @@ async def test_watched_model_change_on_disk_rechecks_the_open_launch_file(client
         mpath.write_text(original)
         client.workspace_did_change_watched_files(types.DidChangeWatchedFilesParams(changes=[
             types.FileEvent(uri=mpath.as_uri(), type=types.FileChangeType.Changed)]))
+
+
+async def test_hover_on_a_diagnostic_shows_its_codes_page(client: LanguageClient):
+    """The hover inside a diagnostic's range carries its code's page from the catalogue the
+    package ships (what --explain prints), and tvl-lsp.explain returns a page or the list."""
+    from tvl_lsp.base.catalogue import section
+    path = client.ws / "src/turtlerand/launch/explain_probe.launch"
+    text = '<launch>\n  <node pkg="p" type="t" name="n" if="true" unless="false"/>\n</launch>\n'
+    path.write_text(text)
+    uri = open_doc(client, path, text)
+    ds = await diagnostics(client, uri, lambda ds: "if-and-unless" in codes(ds))
+    (d,) = [d for d in ds if d.code == "if-and-unless"]
+    v = await hover_text(client, uri, d.range.start, "if-and-unless")
+    assert "**`if-and-unless`** (error)" in v
+    assert "cannot set both 'if' and 'unless' on the same tag" in v and "**Fix:**" in v
+    # outside every diagnostic's range: no page
+    h = await client.text_document_hover_async(types.HoverParams(
+        text_document=tdi(uri), position=types.Position(line=2, character=2)))
+    assert h is None or "**Fix:**" not in h.contents.value
+    page = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+        command="tvl-lsp.explain", arguments=["if-and-unless"]))
+    assert page["markdown"] == section("if-and-unless") and page["severity"] == "error"
+    listing = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+        command="tvl-lsp.explain", arguments=[]))
+    assert {"code": "if-and-unless", "severity": "error"}.items() <= next(
+        c for c in listing["codes"] if c["code"] == "if-and-unless").items()
+    with pytest.raises(Exception, match="unknown diagnostic code"):
+        await client.workspace_execute_command_async(types.ExecuteCommandParams(
+            command="tvl-lsp.explain", arguments=["if-and-unles"]))

@@ -84,10 +84,39 @@ def depends_on(ls, doc, changed: str) -> bool:
     if doc.kind == "launch":
         if ck in ("tvl", "uvl", "dimacs"):
             return _norm(changed) in {_norm(m) for m in ls.models_for_launch(doc.path)}
+        if ck is None and is_node_source(changed):
+            # a node's source (or build file): the graph checks read it; same workspace only
+            return ls.workspace_root_for(changed) == ls.workspace_root_for(doc.path)
         return ck == "launch"
     if doc.kind in ("tvl", "uvl", "dimacs") and ck == "launch":
         return _norm(doc.path) in {_norm(m) for m in ls.models_for_launch(changed)}
     return False
+
+
+def is_node_source(path: str) -> bool:
+    """A C++ / Python source, or a build file, of a ROS package (a package.xml above it)."""
+    import os
+    from ..graph.sources import source_language
+    base = os.path.basename(path)
+    if source_language(path) is None and base not in ("CMakeLists.txt", "setup.py", "setup.cfg"):
+        return False
+    d = os.path.dirname(_norm(path))
+    for _ in range(30):
+        hit = _PKG_DIRS.get(d)
+        if hit is None:
+            hit = _PKG_DIRS[d] = os.path.isfile(os.path.join(d, "package.xml"))
+            if len(_PKG_DIRS) > 20000:
+                _PKG_DIRS.clear()
+        if hit:
+            return True
+        nd = os.path.dirname(d)
+        if nd == d:
+            return False
+        d = nd
+    return False
+
+
+_PKG_DIRS: dict[str, bool] = {}
 
 
 def _norm(p: str) -> str:

@@ -153,7 +153,8 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                  timeout: Optional[float] = 10.0, hints=None, configs: Optional[list[str]] = None,
                  partial: bool = False) -> list[Diagnostic]:
     """A launch file's diagnostics: its own, the cross-checks of each pairing, and, with node
-    ``hints`` (:meth:`Workspace.hints_for`), the computation graph's checks.  ROS 1 or ROS 2,
+    ``hints`` (:meth:`Workspace.hints_for`: a project file names it), the computation graph's
+    checks, on the hints and the workspace's sources.  ROS 1 or ROS 2,
     by the file's dialect; ``partial``: a ROS 2 file other launch files include (see
     :func:`tvl_lsp.launch.ros2.analyse_launch2`), for its check without a model."""
     from ..analysis.crosscheck import cross_check
@@ -233,17 +234,21 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                 out += cross_check(la, None, None, launch_text=text)
         except Exception as exc:
             out.append(_internal(path, f"cross-check failed: {exc!r}"))
-        if hints:
-            out += _graph_findings(la, hints, configs, info, features, p, root or os.path.dirname(path))
+        if hints is not None and (hints or hints.sources):
+            out += _graph_findings(la, hints, configs, info, features, p, root or os.path.dirname(path), read_file)
     return out
 
 
-def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing, root: str) -> list[Diagnostic]:
-    """The computation graph's checks (tvl_lsp.graph.checks) of one pairing."""
+def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing, root: str,
+                    read_file=None) -> list[Diagnostic]:
+    """The computation graph's checks (tvl_lsp.graph.checks) of one pairing: what the nodes use
+    comes from the workspace's sources and the node hints."""
     from ..graph import GraphLogic, build_graph, graph_diagnostics
+    from .sources import extraction_for, node_packages
     try:
-        g = build_graph(la, hints, configs)
-        if not any(n.hinted for n in g.nodes.values()):
+        ex = extraction_for(root, read_file, node_packages(la))
+        g = build_graph(la, hints, configs, ex.by_node_type() if ex is not None else None)
+        if not any(n.known for n in g.nodes.values()):
             return []
         enc = info.analysis.encoding if info is not None else None
         with GraphLogic(enc, features, info.analysis if info is not None else None) as logic:
@@ -419,7 +424,7 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
         root_of[lf] = r
         try:
             h, c = ws.hints_for(lf, named_only=True)
-            if h:
+            if h or h.sources:  # hints, or a project file names it (its nodes' sources may say)
                 hints_of[lf] = (lf, h, c)
         except Exception as exc:
             pre.append(_internal(lf, f"reading node hints failed: {exc!r}"))
@@ -544,6 +549,7 @@ def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile
         if text is not None and norm(p) == path:
             return text
         return base_read(p)
+    read.texts = getattr(base_read, "texts", None)  # unsaved sources (the graph checks read them)
 
     if text is None:
         text = read(path)

@@ -605,6 +605,8 @@ class Workspace:
         for pf in self.projects:
             if pf.path in files and pf.hints:
                 out = out.merge(pf.hints)
+        if naming:  # the project files that name it, with hints or not (the graph checks run for it)
+            out.sources = list(dict.fromkeys(out.sources + files))
         return out, configs
 
     def included_launch_names(self) -> set[str]:

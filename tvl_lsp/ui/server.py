@@ -24,6 +24,7 @@ import os
 import secrets
 import sys
 import threading
+import time
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -46,7 +47,7 @@ class App:
     """The state behind the server: one :class:`Session` per model, the decisions per model."""
 
     def __init__(self, path: str, folder: Optional[str] = None, limit: int = 100,
-                 project_files: Optional[list[str]] = None):
+                 project_files: Optional[list[str]] = None, compile_budget: Optional[float] = None):
         path = norm(path)
         if not os.path.exists(path):
             raise SessionError(f"{path} does not exist")
@@ -58,17 +59,22 @@ class App:
         self.sessions: dict[str, Session] = {}
         self.decisions: dict[str, dict[str, bool]] = {}
         self.versions: dict[str, int] = {}
+        self.pairings: dict[str, str] = {}  # model -> the launch file chosen on the page
+        self.compile_budget = compile_budget
         self.initial: Optional[str] = None
         if is_model(path):
             self.initial = path
         elif is_launch(path):
             s = Session.open(path, self.roots, project_files=project_files)
+            if compile_budget is not None:
+                s.compile_budget = compile_budget
             self.sessions[s.model_path] = s
             self.initial = s.model_path
         self._targets: Optional[list[dict]] = None
         self.pool = None
         self.pool_lock = threading.Lock()  # not self.lock: that one is held while a session opens
         self.closed = False
+        self.active = 0  # requests being answered
         self.checks: dict = {}
 
     def targets(self) -> dict:
@@ -110,10 +116,16 @@ class App:
 
     def close(self) -> None:
         from ..analysis.counting.service import cancel_all
-        cancel_all()  # kills the d4 processes of background compilations
         with self.pool_lock:
             self.closed = True
             pool, self.pool = self.pool, None
+        # requests in flight see the stop as a cancellation (a count in a pyganak process ends
+        # it); background compilations kill their d4 processes; both are waited for, briefly,
+        # so that no child outlives the server
+        cancel_all(wait=3.0)
+        deadline = time.monotonic() + 3.0
+        while self.active and time.monotonic() < deadline:
+            time.sleep(0.02)
         kill_pool(pool)
 
     def session(self, model: Optional[str]) -> Session:
@@ -128,13 +140,45 @@ class App:
         with self.lock:
             s = self.sessions.get(model)
             if s is None:
-                s = self.sessions[model] = Session(model, self.roots, project_files=self.project_files)
+                launch = self.pairings.get(model)
+                s = self.sessions[model] = Session(model, self.roots, project_files=self.project_files,
+                                                   launches=[launch] if launch else None)
+                if self.compile_budget is not None:
+                    s.compile_budget = self.compile_budget
                 self.decisions.setdefault(model, {})
             return s
+
+    def pair(self, model: Optional[str], launch: object) -> dict:
+        """Configure ``launch`` (a launch file of the workspace) with the model from now on: a
+        new session, the decisions kept where the model still accepts them."""
+        from ..project.generate import inside
+        from ..project.workspace import is_launch as _is_launch
+        s = self.session(model)
+        if not isinstance(launch, str) or not launch:
+            raise SessionError("pair needs the launch file to configure")
+        launch = norm(launch)
+        if not inside(launch, self.roots) or not _is_launch(launch) or not os.path.isfile(launch):
+            raise SessionError(f"{launch} is not a launch file of this workspace")
+        with self.lock:
+            self.pairings[s.model_path] = launch
+            for t in self._targets or []:
+                if t["model"] == s.model_path:
+                    t["launches"] = [launch]
+            self.sessions.pop(s.model_path, None)
+            self.checks.pop(s.model_path, None)
+            self.versions[s.model_path] = self.versions.get(s.model_path, 0) + 1
+        s2 = self.session(s.model_path)
+        try:
+            self.check_in_background(s2)
+        except RuntimeError:
+            pass
+        return {"model": s2.model_path, "launch": s2.launch}
 
     def request(self, op: str, body: dict) -> dict:
         if op == "targets":
             return self.targets()
+        if op == "pair":
+            return self.pair(body.get("model"), body.get("launch"))
         s = self.session(body.get("model"))
         key = s.model_path
         with self.lock:
@@ -142,7 +186,7 @@ class App:
             version = self.versions.get(key, 0)
 
         def cancelled() -> bool:
-            return self.versions.get(key, 0) != version
+            return self.closed or self.versions.get(key, 0) != version
 
         if op == "problems" and s._problems is None:
             try:
@@ -150,14 +194,22 @@ class App:
             except Exception:
                 pass  # checked in this process instead
 
-        out, new = api.handle(s, op, body, decisions, cancel=cancelled, generate_folder=self.folder,
-                              generate_limit=self.limit)
+        with self.pool_lock:
+            self.active += 1
+        try:
+            out, new = api.handle(s, op, body, decisions, cancel=cancelled, generate_folder=self.folder,
+                                  generate_limit=self.limit)
+        finally:
+            with self.pool_lock:
+                self.active -= 1
         if new != decisions:
             with self.lock:
                 self.decisions[key] = new
                 self.versions[key] = version + 1
         if op == "generate" and body.get("write", True):
             out["written"] = api.write_files(s, out["files"])
+        if op == "save" and body.get("write", True):
+            out["written"] = api.write_files(s, [{"path": out["path"], "text": out["text"]}])
         out["model"] = out.get("model", key) if op == "model" else key
         return out
 
@@ -279,7 +331,7 @@ class Handler(BaseHTTPRequestHandler):
         except ValueError:
             self._json(HTTPStatus.BAD_REQUEST, {"error": "the request body must be a JSON object"})
             return
-        if op not in api.OPS and op != "targets":
+        if op not in api.OPS and op not in ("targets", "pair"):
             self._json(HTTPStatus.NOT_FOUND, {"error": f"unknown request {op!r}"})
             return
         try:
@@ -313,11 +365,12 @@ class UiServer(ThreadingHTTPServer):
 
 def make_server(path: str, port: int = 0, folder: Optional[str] = None, token: Optional[str] = None,
                 verbose: bool = False, limit: int = 100,
-                project_files: Optional[list[str]] = None) -> tuple[UiServer, str]:
+                project_files: Optional[list[str]] = None,
+                compile_budget: Optional[float] = None) -> tuple[UiServer, str]:
     """The server (not yet serving) and its URL (with the token)."""
     from ..configurator.preload import import_core
     import_core()  # before the warm-up and request threads: concurrent first imports are not safe
-    app = App(path, folder, limit, project_files)
+    app = App(path, folder, limit, project_files, compile_budget)
     token = token or secrets.token_urlsafe(24)
     handler = type("BoundHandler", (Handler,), {"app": app, "token": token, "verbose": verbose})
     httpd = UiServer(("127.0.0.1", port), handler)

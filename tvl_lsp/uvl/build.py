@@ -40,7 +40,7 @@ from .parser import RawFeature, RawFile, RawImport, RawValue, StrLit, parse_line
 
 E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFORMATION
 
-# codes shared with the TVL front end (same meaning; docs/diagnostics.md says so)
+# codes shared with the TVL front end (same meaning; tvl_lsp/data/diagnostics.md says so)
 C_SYNTAX = register("syntax-error", E, "the text does not follow the TVL grammar", "tvl")
 C_ILLEGAL = register("illegal-character", E, "a character that cannot appear in TVL", "tvl")
 C_UNTERM_COMMENT = register("unterminated-comment", E, "a /* comment is never closed", "tvl")

@@ -126,6 +126,14 @@ export class ConfiguratorPanel {
   private dispose(): void {
     ConfiguratorPanel.current = undefined;
     this.disposables.forEach((d) => d.dispose());
+    // the page's background work (compiling a big model for its counts) ends with the panel
+    const c = this.client();
+    if (c) {
+      void c.sendRequest(ExecuteCommandRequest.type, {
+        command: 'tvl-lsp.configurator',
+        arguments: [this.uri.toString(), 'close', {}],
+      }).then(undefined, () => undefined);
+    }
   }
 }
 

@@ -244,6 +244,8 @@ def count_cnf(nvars: int, clauses: Sequence[Sequence[int]], projection: Optional
 
 def _worker_main() -> int:
     """Read a DIMACS CNF (``c p show ... 0`` for the projection) on stdin, print the count."""
+    from .d4 import _die_with_parent
+    _die_with_parent()  # a host that stops (or is killed) leaves no count running
     nvars = 0
     clauses: list[list[int]] = []
     projection = None

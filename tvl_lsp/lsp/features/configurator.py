@@ -5,7 +5,9 @@ client that draws it), answered by the same pure API as ``tvl-lsp ui``
     workspace/executeCommand tvl-lsp.configurator [uri, op, params?]
 
 ``uri``: a model, or a launch file paired with one; ``op``: model | state | decide | reset | graph |
-counts | problems | generate | excerpt (see :mod:`tvl_lsp.configurator.api`).  The decisions are
+counts | problems | generate | excerpt | explain | set | complete | configs | save | load | launches
+(see :mod:`tvl_lsp.configurator.api`), or pair (``{launch}``: the launch file the model configures
+from now on, chosen on the page).  The decisions are
 the server's (``tvl-lsp.include`` / ``exclude`` / ``reset`` share them); ``generate`` writes the
 files through ``workspace/applyEdit`` when the client can create files, else itself, in the
 folder of the ``generate.folder`` setting.
@@ -21,7 +23,8 @@ from pygls.exceptions import JsonRpcInvalidParams
 from .commands import _in_worker, _path, _refresh_lens, can_create, creation_edit, model_of
 
 CONFIGURATOR = "tvl-lsp.configurator"
-_OPS = ("model", "state", "decide", "reset", "counts", "graph", "problems", "generate", "excerpt")
+_OPS = ("model", "state", "decide", "reset", "counts", "graph", "problems", "generate", "excerpt",
+        "explain", "set", "complete", "configs", "save", "load", "launches", "pair", "close")
 
 
 def register(ls) -> None:
@@ -37,6 +40,18 @@ def register(ls) -> None:
         model = model_of(ls, path)
         launch = path if file_kind(path) != "tvl" else None
         roots = ls.roots_for(model)
+        pairings = ls.__dict__.setdefault("configurator_pairings", {})
+        if op == "pair":  # the page chose the launch file this model configures
+            from ...project.generate import inside
+            chosen = params.get("launch")
+            if not isinstance(chosen, str) or file_kind(chosen) == "tvl" or not inside(chosen, roots):
+                raise JsonRpcInvalidParams("pair needs a launch file of the workspace")
+            pairings[model] = chosen
+            return {"model": model, "launch": chosen}
+        launch = launch or pairings.get(model)
+        if op == "close":  # the panel closed: its compilations end with it
+            res = await _in_worker(ls, pool.close, model)
+            return res["result"]
         texts: dict[str, str] = dict(await ls.model_sources(model) or {})
         for lf in ([launch] if launch else ls.launches_for_model(model)):
             t = ls.read_file(lf)
@@ -53,6 +68,8 @@ def register(ls) -> None:
         out = res["result"]
         if op == "generate":
             out["written"] = await _write(ls, out["files"], roots)
+        if op == "save":
+            out["written"] = await _write(ls, [{"path": out["path"], "text": out["text"]}], roots)
         return out
 
 

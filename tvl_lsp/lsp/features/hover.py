@@ -1,5 +1,7 @@
 """Hover: features (in the model, or as ``<arg>`` / ``$(arg X)`` in a launch file) with their
-product counts; the root with the total; launch elements with their presence condition."""
+product counts; the root with the total; launch elements with their presence condition; inside a
+diagnostic's range, its code's page from the diagnostics catalogue (``explain.py``); in a node's
+C++ / Python source, the call under the cursor (:mod:`.sources`)."""
 
 from __future__ import annotations
 
@@ -9,7 +11,9 @@ from typing import Optional
 
 from lsprotocol import types
 
+from ..checks import is_node_source
 from ..convert import from_lsp_position, to_lsp_range
+from .explain import hover_notes
 from ...tvl import model as M
 from ...project import facts as F
 from ...project.facts import MODEL_KINDS
@@ -21,13 +25,27 @@ def register(ls) -> None:
     @ls.feature(types.TEXT_DOCUMENT_HOVER)
     async def hover(ls, params: types.HoverParams):
         doc = ls.docs.get(params.text_document.uri)
-        if doc is None or doc.kind is None:
+        if doc is None:
             return None
+        if doc.kind is None:
+            if not is_node_source(doc.path):
+                return None
+            from .sources import source_hover
+            md, span = await source_hover(ls, doc, from_lsp_position(doc.index, params.position, ls.encoding))
+            if not md:
+                return None
+            rng = to_lsp_range(doc.index, span, ls.encoding) if span is not None else None
+            return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=md), range=rng)
         pos = from_lsp_position(doc.index, params.position, ls.encoding)
         if doc.kind in MODEL_KINDS:
             md, span = await tvl_hover(ls, doc.path, pos)
         else:
             md, span = await launch_hover(ls, doc, pos)
+        # inside a diagnostic's range: its code's page from the catalogue (lsp/features/explain.py)
+        notes, note_span = hover_notes(ls, params.text_document.uri, doc.path, pos)
+        if notes:
+            md = f"{md}\n\n---\n\n{notes}" if md else notes
+            span = span if span is not None else note_span
         if not md:
             return None
         rng = to_lsp_range(doc.index, span, ls.encoding) if span is not None else None

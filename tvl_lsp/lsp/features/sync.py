@@ -42,8 +42,11 @@ def register(ls) -> None:
                         register_options=types.DidChangeWatchedFilesRegistrationOptions(watchers=[
                             types.FileSystemWatcher(glob_pattern=g) for g in
                             ("**/*.tvl", "**/*.uvl", "**/*.dimacs", "**/*.launch", "**/*.launch.xml", "**/*.test",
-                             "**/*_launch.xml", "**/*.launch.py", "**/*_launch.py",
-                             "**/package.xml", "**/*.yaml", "**/*.yml")]))]))
+                             "**/*_launch.xml",
+                             "**/package.xml", "**/*.yaml", "**/*.yml",
+                             # the nodes' sources (the computation graph reads them), and the ROS 2
+                             # Python launch files among them
+                             "**/*.{cpp,cc,cxx,h,hpp,hh,py}", "**/CMakeLists.txt", "**/setup.cfg")]))]))
             except Exception:  # the client said no: fine
                 log.debug("watched files registration refused")
 
