@@ -35,20 +35,19 @@ from .encode import Element, Encoding, encode
 from .solve import Analyzer, Explanation, products, smallest_product
 
 VOID_MODEL = register("void-model", Severity.ERROR,
-                      "the feature model has no product: no selection of features satisfies it", "analysis")
+                      "The feature model has no product: no selection of features satisfies it.", "analysis")
 DEAD_FEATURE = register("dead-feature", Severity.WARNING,
-                        "a feature that no product can select", "analysis")
+                        "A feature that no product can select.", "analysis")
 MIN_DETECTION = 2.0  # seconds the search for dead / false-optional features gets at least
 ANOMALY_BUDGET = register("anomaly-budget", Severity.INFORMATION,
-                          "the search for dead and false-optional features ran out of its time budget", "analysis")
+                          "The search for dead and false-optional features ran out of its time budget.", "analysis")
 FALSE_OPTIONAL = register("false-optional", Severity.WARNING,
-                          "an optional feature that is selected in every product that selects its parent",
+                          "An optional feature that is selected in every product that selects its parent.",
                           "analysis")
 REDUNDANT_CONSTRAINT = register("redundant-constraint", Severity.INFORMATION,
-                                "a constraint already implied by the rest of the model", "analysis")
+                                "A constraint already implied by the rest of the model.", "analysis")
 ALWAYS_FALSE_CONSTRAINT = register("always-false-constraint", Severity.ERROR,
-                                   "a constraint that no selection of features allowed by the feature "
-                                   "tree satisfies", "analysis")
+                                   "A constraint that no selection of features allowed by the feature tree satisfies.", "analysis")
 
 
 def _locked(fn):

@@ -111,11 +111,10 @@ def main(argv: Optional[list[str]] = None) -> int:
         return 2
 
     from ...project.workspace import explicit_skip_reason
+    # a file named explicitly that is not checked gets a diagnostic of the report
+    # (file-not-checked: project.check.check_paths), not silence
     skipped = [(p, r) for p in paths if os.path.lexists(p) and not os.path.isdir(p)
                and (r := explicit_skip_reason(p)) is not None]
-    for p, reason in skipped:   # named explicitly: say why it is not checked rather than ignore it
-        print(f"tvl-lsp --check: {'error' if ns.strict else 'warning'}: {p} not checked: {reason}",
-              file=sys.stderr)
 
     try:
         from ...project.budget import cap_memory

@@ -15,6 +15,10 @@ The actions of event handlers (``RegisterEventHandler(OnProcessExit(...))``) sta
 process starts or exits: they are listed apart, under "events" (``--json``: ``events``).  The
 dialect of a ``.launch.xml`` file is detected (``--dialect`` forces it).
 
+ROS 1: ``$(find pkg)`` finds what roslaunch finds, the packages of the workspace (the one
+``--check`` uses for FILE, unless ``--workspace`` names it) and of ``ROS_PACKAGE_PATH``, with
+roslaunch's precedence (:func:`tvl_lsp.launch.packages.ros_packages`).
+
 ROS 1 with --json: "params" maps each parameter to the value roslaunch sets (typed as roslaunch
 types it: numbers, booleans, strings, YAML lists and maps), except those in "param_sources"
 (textfile / binfile / command), given by path or command line.
@@ -75,6 +79,9 @@ def main(argv: list[str]) -> int:
         dialect = dialect_of(path).dialect
     if dialect == "ros2":
         return _ros2(path, args, workspace, as_json, strict)
+    if workspace is None:  # the workspace --check finds for this file: one package resolver for both
+        from ...project.workspace import find_workspace_root
+        workspace = find_workspace_root(path)
     res = load_launch(path, args, workspace_root=workspace)
     if as_json:
         out = {"file": path, "args": args, "nodes": res.nodes,

@@ -34,6 +34,7 @@ class IncludeRules:
                 el.unresolved = True
                 m = re.search(UNRESOLVED + "([^" + UNRESOLVED + "]*)" + UNRESOLVED, f)
                 inc.package = m.group(1) if m else None
+                self.not_followed(a, el, sc, c, emap)
                 continue
             path = os.path.abspath(f)
             if path in self.stack:
@@ -54,6 +55,14 @@ class IncludeRules:
                     u = self.unit(path)
             if u is None and not self.concrete and not self.in_workspace(path):
                 el.unresolved = True   # e.g. an installed package's file: not on this machine
+                self.not_followed(a, el, sc, c, emap)
+                continue
+            if u is None and self.exists(path + ".in"):
+                # made by the build from a template (CMake's configure_file): not in the sources
+                self.decline(el.path, span, f"{os.path.basename(path)} is made by the build from "
+                             f"{os.path.basename(path)}.in: tvl-lsp does not know what it will contain", c)
+                el.unresolved = True
+                self.not_followed(a, el, sc, c, emap)
                 continue
             if u is None:
                 ext = _extension(path)
@@ -73,6 +82,7 @@ class IncludeRules:
                 if not self.concrete:
                     sc.opaque = disj([sc.opaque, c])
                 el.unresolved = True
+                self.not_followed(a, el, sc, c, emap)
                 continue
             if u.python:
                 # a Python launch file whose launch description tvl-lsp cannot know
@@ -85,7 +95,7 @@ class IncludeRules:
                 if self.concrete:
                     self.fact(PYTHON_INCLUDE, msg, el.path, span, c, E, launch=("NotAnalysed", msg))
                 self.fact(PYTHON_INCLUDE, msg, el.path, span, c, I)
-                sc.opaque = disj([sc.opaque, c])
+                self.not_followed(a, el, sc, c, emap)
                 el.unresolved = True
                 inc.followed = False
                 continue
@@ -99,6 +109,16 @@ class IncludeRules:
             inc.followed = True
             el.resolved_file = path
             self.include_one(a, el, sc, c, path, u, emap, inc)
+
+    def not_followed(self, a: A.IncludeA, el: Element, sc: Scope, c: Formula, emap: dict) -> None:
+        """An include whose file is not analysed (outside the workspace, a file name tvl-lsp cannot
+        know ...): launch still sets its args first, and the file may set anything (includes do
+        not scope): after it, a configuration nobody here sets is unknown, not missing."""
+        for ia in a.args:
+            iel = emap.get(id(ia.entity), el)
+            iel.condition = disj([iel.condition, c])
+            self.set_config(sc, self.ev(ia.name, sc, c, iel), self.sure(self.ev(ia.value, sc, c, iel), c), c)
+        sc.opaque = disj([sc.opaque, c])
 
     def include_one(self, a: A.IncludeA, el: Element, sc: Scope, c: Formula, path: str, u: Unit, emap: dict,
                     inc: IncludeFact) -> None:
@@ -142,8 +162,8 @@ class IncludeRules:
                 if n in ("ros_namespace",) or n.startswith("anon"):
                     continue
                 old = before.get(n, before_all.get(n, []))
-                if len(after) == len(old) and set(after) == set(old):   # (no repr: formulas share parts)
-                    continue
+                if len(after) == len(old) and set(after) == set(old):
+                    continue  # (formulas compare by hash: their repr is exponential in their sharing)
                 span = self.leak_span(a, emap, el, n)
                 sc.leaks[n] = Leak(n, el, span[1], span[0], old, after)
 

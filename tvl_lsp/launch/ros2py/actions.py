@@ -29,7 +29,7 @@ from .values import Decline, Func, LaunchCtx, PyError, Unknown
 
 MAX_WORLDS = 32
 PYTHON_ERROR = register("python-error", Severity.ERROR, "Python code of a launch file raises an exception when "
-                        "ros2 launch runs it", "launch")
+                        "ros2 launch runs it.", "launch")
 
 
 def declined(w, el: Element, sc, cond, where, reason: str) -> None:

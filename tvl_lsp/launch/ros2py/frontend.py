@@ -30,7 +30,7 @@ from .convert import Converter, PyEntity, PyValue
 from .interp import Interp
 from .values import Decline, Func, LObj, ModuleNS, PyError, SysPath, Unknown
 
-PY_SYNTAX = register("python-syntax", Severity.ERROR, "A Python launch file Python cannot parse", "launch")
+PY_SYNTAX = register("python-syntax", Severity.ERROR, "A Python launch file that Python cannot parse.", "launch")
 
 MAX_PY_CHARS = 2_000_000
 MAX_MODULES = 64
@@ -357,7 +357,11 @@ def load_unit(w, path: str, text: str) -> Unit:
     try:
         interp.run_module(m)
         gen = m.globals.get("generate_launch_description")
-        if gen is None:
+        if gen is None and "generate_test_description" in m.globals:
+            # a launch_testing test: launch_test runs it, not ros2 launch
+            decline = ("a launch_testing test (it defines generate_test_description()): launch_test runs it, "
+                       "not ros2 launch", None)
+        elif gen is None:
             msg = f"launch file at '{path}' does not contain the required function 'generate_launch_description()'"
             errors.append(A.LoadError("InvalidPythonLaunchFileError", msg, root.tag_span, path))
         elif not isinstance(gen, Func):
@@ -391,8 +395,36 @@ def load_unit(w, path: str, text: str) -> Unit:
         u = Unit(path, doc, [], errors, python=True)
         u.decline = (reason, path, span)
     u.py = unit
-    w.declared_names[path] = declared_in(acts)
+    w.declared_names[path] = _declared(acts)
     return u
+
+
+def _declared(acts: list) -> set:
+    """The configurations a Python file sets itself (``declared_in``), without the include arguments
+    that only pass a configuration on under its own name (``'map_path': LaunchConfiguration('map_path')``:
+    the file expects whoever launches it to give it)."""
+    from ..ros2 import subst as S
+    out = declared_in(acts)
+    stack = list(acts)
+    passed: set = set()
+    own: set = set()
+    while stack:
+        a = stack.pop()
+        if isinstance(a, A.IncludeA):
+            for x in a.args:
+                n = S.plain(x.name.parts)
+                p = x.value.parts
+                if len(p) == 1 and isinstance(p[0], S.Sub) and p[0].name == "var" and \
+                        S.plain(p[0].args[0]) == n:
+                    passed.add(n)
+                else:
+                    own.add(n)
+        elif isinstance(a, (A.ArgA,)):
+            own.add(a.name)
+        elif isinstance(a, A.LetA) and S.is_text(a.name.parts):
+            own.add(S.plain(a.name.parts))
+        stack.extend(getattr(a, "actions", None) or [])
+    return out - (passed - own)
 
 
 def _static_names(tree, m: ModuleNS, conv: Converter, root: PyEntity) -> None:

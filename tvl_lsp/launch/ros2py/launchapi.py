@@ -63,7 +63,8 @@ def construct(interp, cls: LClass, args: list, kwargs: dict, m: ModuleNS, n):
     allowed = set(spec["kw"]) | set(pos)
     for k, v in kwargs.items():
         if k not in allowed:
-            raise PyError("TypeError", f"{cls.name}.__init__() got an unexpected keyword argument '{k}'",
+            raise PyError("TypeError", f"{cls.name}.__init__() got an unexpected keyword argument '{k}' "
+                          f"({_version(cls.qual)} has no such argument)",
                           m.where(call_kws[k]) if k in call_kws else m.where(n), sure=True)
         if k in bound:
             raise PyError("TypeError", f"{cls.name}.__init__() got multiple values for argument '{k}'",
@@ -104,6 +105,10 @@ def normalize(o: LObj) -> None:
                 o.args[k] = str(v).lower()
             elif isinstance(v, (int, float)):
                 o.args[k] = str(v)
+
+
+def _version(qual: str) -> str:
+    return "launch_ros 0.28" if qual.startswith("launch_ros") else "launch 3.7.1"
 
 
 def check(interp, o: LObj, m: ModuleNS, n) -> None:
