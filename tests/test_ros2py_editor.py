@@ -193,11 +193,13 @@ async def test_a_keystroke_updates_the_diagnostics(client: LanguageClient):
 
 
 async def test_ordinary_python_is_not_analysed(client: LanguageClient):
+    """A Python module of the package is no launch file: not checked as one (its hover, if any,
+    is about the node's source, never an argument's)."""
     path = client.ws / "src" / "rover" / "rover" / "util.py"
     uri = open_doc(client, path)
     h = await client.text_document_hover_async(types.HoverParams(text_document=tdi(uri),
                                                                  position=types.Position(line=4, character=6)))
-    assert h is None
+    assert h is None or not any(w in h.contents.value for w in ("argument", "products", "**Node**"))
     st = await client.workspace_execute_command_async(types.ExecuteCommandParams(
         command="tvl-lsp.documentState", arguments=[uri]))
     assert st["phase"] is None
@@ -341,8 +343,9 @@ async def test_names_read_in_an_opaque_function(client: LanguageClient):
     uri = open_doc(client, path)
     enc = client.enc
     locs = await _locations(client, "references", uri, find(text, "launch_configurations['Camera']", enc, offset=24))
+    # (and the use in listed.launch.py, paired with camera.tvl too)
     assert _texts(client, locs) == [("camera.launch.py", "Camera"), ("camera.launch.py", "Camera"),
-                                    ("camera.tvl", "Camera")]
+                                    ("camera.tvl", "Camera"), ("listed.launch.py", "Camera")]
     edit = await client.text_document_rename_async(types.RenameParams(
         text_document=tdi(uri), position=find(text, "LaunchConfiguration('fps')", enc, offset=22), new_name="rate"))
     new = apply(text, edits_by_uri(edit)[uri], enc)
@@ -371,6 +374,28 @@ async def test_from_an_xml_file_that_includes_the_python_file(client: LanguageCl
     # the declaration, the IfCondition and the use inside the PythonExpression
     assert new_py.count("'Laser'") == 3 and "'Lidar'" not in new_py
     ast.parse(new_py)
+
+
+async def test_rename_says_which_strings_it_left(client: LanguageClient):
+    """Arguments declared from a list of names: the rename changes the uses it knows and says
+    which other strings with the old name it left as they are."""
+    path = client.launch_dir / "listed.launch.py"
+    text = path.read_text()
+    uri = open_doc(client, path)
+    enc = client.enc
+    before = len(client.messages)
+    edit = await client.text_document_rename_async(types.RenameParams(
+        text_document=tdi(uri), position=find(text, "LaunchConfiguration('Camera')", enc, offset=22),
+        new_name="Webcam"))
+    by = edits_by_uri(edit)
+    assert "LaunchConfiguration('Webcam')" in apply(text, by[uri], enc)
+    assert "camera.tvl" in {Path(u).name for u in by}
+    for _ in range(50):
+        if len(client.messages) > before:
+            break
+        await asyncio.sleep(0.05)
+    notes = [m.message for m in client.messages[before:]]
+    assert any("listed.launch.py (line 10)" in m and "'Camera'" in m for m in notes), notes
 
 
 async def test_rename_refuses_a_name_the_file_declares(client: LanguageClient):

@@ -558,3 +558,26 @@ def _context(stack: list, prefix: str, start: int, last_name, last_kind) -> Opti
         if outer.ch in "[(" and outer.label is None:
             return StringContext("key", prefix, start, top.at, outer.kw == "launch_arguments", include_at)
     return None
+
+
+def name_literals(text: str, path: str, name: str) -> list[Span]:
+    """The ranges (between the quotes) of the plain one-line string literals of the file whose
+    value is ``name``: after a rename, those it did not change may still name the argument
+    (a list the file declares its arguments from) -- or something else (a node of that name)."""
+    from .frontend import parse_python
+    tree, _ = parse_python(text, path)
+    if tree is None or name not in text:
+        return []
+    src = _Src(text, tree)
+    out = []
+    for node in ast.walk(tree):
+        if _str_const(node) != name or getattr(node, "end_lineno", None) != node.lineno:
+            continue
+        raw = src.src(node)
+        body = raw.lstrip("rRuU")
+        q = body[:3] if body[:3] in ('"""', "'''") else body[:1]
+        if q not in ("'", '"', '"""', "'''") or body[len(q):len(body) - len(q)] != name:
+            continue  # (escapes, implicit concatenation: not the name's characters)
+        a = src.start(node) + (len(raw) - len(body)) + len(q)
+        out.append(Span(src.index.pos(a), src.index.pos(a + len(name))))
+    return out

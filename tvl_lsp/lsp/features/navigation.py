@@ -271,12 +271,32 @@ def register(ls) -> None:
             d = ls.docs.get(uri)
             if d is not None and versions.get(uri) != d.version:
                 raise JsonRpcContentModified("the document changed during the rename: try again")
+        _warn_leftovers(ls, sym.name, new, locations)
         if ls.cap("workspace.workspace_edit.document_changes", False):
             return types.WorkspaceEdit(document_changes=[
                 types.TextDocumentEdit(text_document=types.OptionalVersionedTextDocumentIdentifier(
                     uri=uri, version=ls.docs[uri].version if uri in ls.docs else None), edits=edits)
                 for uri, edits in by_uri.items()])
         return types.WorkspaceEdit(changes=by_uri)
+
+
+def _warn_leftovers(ls, old: str, new: str, locations) -> None:
+    """Say which strings ``'old'`` of the Python launch files the rename touches it leaves as they
+    are: tvl-lsp cannot tell whether they name the argument (a list the file declares its
+    arguments from) or something else (a node of that name)."""
+    from ...launch.ros2py.editing import name_literals
+    done = set(locations)
+    notes = []
+    for p in dict.fromkeys(p for p, _ in locations):
+        if not p.endswith(".py"):
+            continue
+        left = [s for s in name_literals(ls.read_file(p) or "", p, old) if (p, s) not in done]
+        if left:
+            lines = ", ".join(str(s.start.line + 1) for s in left[:5]) + (", ..." if len(left) > 5 else "")
+            notes.append(f"{os.path.basename(p)} (line {lines})")
+    if notes:
+        ls.warn(f"Renamed `{old}` to `{new}`; strings '{old}' left as they are in {'; '.join(notes)}: "
+                "tvl-lsp cannot tell whether they name this argument")
 
 
 async def check_new_name(ls, sym: Symbol, new: str) -> None:
