@@ -152,6 +152,9 @@ def _cond_shown(e, attr) -> str:
     return f'{attr.name}="{attr.value}"'
 
 
+PYTHON_CLASSES = _PY_CLASS  # (for the hosts: hover)
+
+
 def _describe_element(e) -> str:
     if _is_py(e.path):
         cls = _PY_CLASS.get(e.tag, e.tag)
@@ -164,6 +167,25 @@ def _describe_element(e) -> str:
     if f is not None:
         return f'<{e.tag} file="{f.value}">'
     return f"<{e.tag}>"
+
+
+def _arg_inserter(launch, text: Optional[str], model_name: Optional[str]):
+    """feature -> the fixes that add its argument to the launch file (none when there is no
+    place for it)."""
+    if text is not None and _is_py(launch.path):
+        from ..launch.ros2py.editing import declare_argument_planner
+        try:
+            insert = declare_argument_planner(text, launch.path, launch)
+        except (SyntaxError, ValueError, RecursionError):
+            insert = None
+
+        def python_fix(feature: str, long_name: str) -> list[Fix]:
+            edits = insert(feature, f"feature {long_name} of {model_name}") if insert is not None else None
+            if not edits:
+                return []
+            return [Fix(f"Add DeclareLaunchArgument('{feature}')", tuple(edits), preferred=True)]
+        return python_fix
+    return lambda feature, long_name: _insert_arg_fix(launch, text, feature)
 
 
 def _insert_arg_fix(launch, text: Optional[str], feature: str) -> list[Fix]:
@@ -252,7 +274,7 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
                 continue
             sug = _closest(a.name, unmatched_feature_names)
             also = None if sug else _closest(a.name, all_feature_names)
-            msg = f"arg `{a.name}` names no feature of {model_name}"
+            msg = f"{'argument' if _is_py(path) else 'arg'} `{a.name}` names no feature of {model_name}"
             fixes = []
             if sug:
                 msg += f"; did you mean `{sug}`?"
@@ -268,6 +290,7 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             out.append(Diagnostic(UNMATCHED_ARG, Severity.WARNING, path, a.name_span, msg,
                                   data={"arg": a.name, "suggestion": sug}, fixes=fixes))
         root_span = _start_tag(launch.root) if launch.root is not None else Span(Pos(0, 0), Pos(0, 0))
+        insert_arg = _arg_inserter(launch, launch_text, model_name)
         for f in features if getattr(launch, "complete", True) else []:   # (a part not followed may declare it)
             if id(f) in matched_features:
                 continue
@@ -289,7 +312,7 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
                 f"feature `{name}` of {model_name} has {what}: "
                 f"configurations cannot select or deselect it{hint}",
                 related=[Related(f.path, f.name_span, f"feature `{name}` is declared here")],
-                data={"feature": f.name}, fixes=_insert_arg_fix(launch, launch_text, f.name)))
+                data={"feature": f.name}, fixes=insert_arg(f.name, f.long_name)))
     if model is not None and encoding is not None:
         free = [n for n in free_args if encoding.feature_by_name(n) is None]
     else:

@@ -266,7 +266,9 @@ class NodeRules:
                         "the other node with this name")
             msg = (f"two nodes named [{shown(full)}] are started: ros2 launch starts both (it only warns) but "
                    "ROS 2 requires node names to be unique")
-            span = (name_value.span() if name_value is not None else None) or el.tag_span
+            # (the name attribute's value: in a Python file the characters of the name, not its quotes)
+            span = (el.attrs["name"].value_span if "name" in el.attrs else None) or \
+                (name_value.span() if name_value is not None else None) or el.tag_span
             if len(others) <= PAIRWISE_DUPLICATES:
                 for other in others:
                     self.fact(DUPLICATE_NODE, msg, el.path, span, conj([other.condition, nf.condition]), W,
