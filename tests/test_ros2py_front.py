@@ -443,3 +443,15 @@ def generate_launch_description():
     diags = check_document(str(p))
     assert "launch-not-analysable" in {d.code for d in diags}
     assert not [d for d in diags if d.code == "missing-arg"], [d.message for d in diags]
+
+
+def test_a_pytest_file_without_generate_launch_description_is_declined_not_an_error(tmp_path):
+    """``test_x_launch.py`` of launch_pytest (or plain pytest) matches ``*_launch.py`` but pytest runs
+    it: no "missing generate_launch_description" error; a plain module without one still gets it."""
+    p = _ws(tmp_path, "import launch\nimport launch_pytest\nimport pytest\n\n\n@launch_pytest.fixture\n"
+                      "def launch_description():\n    return launch.LaunchDescription([])\n", name="test_x_launch.py")
+    diags = check_document(str(p))
+    assert [d.code for d in diags] == ["launch-not-analysable"] and "launch_pytest" in diags[0].message
+    q = _ws(tmp_path, "import launch\n\n\ndef launch_description():\n    return launch.LaunchDescription([])\n",
+            name="plain_launch.py")
+    assert [d.code for d in check_document(str(q))] == ["invalid-launch-file"]
