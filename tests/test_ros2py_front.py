@@ -455,3 +455,33 @@ def test_a_pytest_file_without_generate_launch_description_is_declined_not_an_er
     q = _ws(tmp_path, "import launch\n\n\ndef launch_description():\n    return launch.LaunchDescription([])\n",
             name="plain_launch.py")
     assert [d.code for d in check_document(str(q))] == ["invalid-launch-file"]
+
+
+def test_a_required_arg_declared_after_an_include_that_passes_it_is_no_undefined_arg(tmp_path):
+    """launch's look-ahead keeps the include's declaration of 'mm' (which the include passes from
+    LaunchConfiguration('mm')) and not the file's own later DeclareLaunchArgument('mm'): the command
+    line must still give mm (the oracle resolves the file with mm:=x, fails without): a warning that
+    it is required, never an undefined-arg error in every product."""
+    inc = _ws(tmp_path, HEAD + """
+def generate_launch_description():
+    return LaunchDescription([DeclareLaunchArgument('mm'), Node(package='demo_pkg', executable='b', name='b',
+                              parameters=[{'mm': LaunchConfiguration('mm')}])])
+""", name="inc.launch.py")
+    p = _ws(tmp_path, HEAD + """
+import os
+from ament_index_python.packages import get_package_share_directory
+from launch.actions import IncludeLaunchDescription
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+
+
+def generate_launch_description():
+    inc = IncludeLaunchDescription(PythonLaunchDescriptionSource(
+        os.path.join(get_package_share_directory('demo_pkg'), 'launch', 'inc.launch.py')),
+        launch_arguments={'mm': LaunchConfiguration('mm')}.items())
+    return LaunchDescription([inc, DeclareLaunchArgument(name='mm')])
+""")
+    assert inc.exists()
+    diags = check_document(str(p))
+    assert [d.code for d in diags if d.severity == 1] == [], [(d.code, d.message) for d in diags]
+    unset = [d for d in diags if d.code == "unset-arg"]
+    assert len(unset) == 1 and _text_at(p, unset[0].span) == "mm", [(d.code, d.message) for d in diags]
