@@ -265,6 +265,32 @@ class PyHost:
             return True
         return v
 
+    def context_env(self, name, default, m, n, required: bool = False, presence: bool = False):
+        """``context.environment.get(name, default)`` / ``[name]`` / ``name in``: the launch's
+        environment changes in scope, else the process's environment (a variable that is not set
+        here is unknown to the symbolic analysis: it may be when launching)."""
+        world = self._world(m, n, "context.environment")
+        if isinstance(name, Unknown):
+            return name
+        if not isinstance(name, str):
+            raise PyError("TypeError", "str expected, not " + type(name).__name__, m.where(n))
+        cases = world.w.env_lookup(world.sc, str(name), world.guard)
+        v = world.choose([(c, _MISSING if val is None else val) for c, val in cases])
+        if v is None and world.guard == FALSE:
+            return Unknown("an unreachable case", m.where(n))
+        if v is _MISSING:
+            if not self.concrete:
+                return Unknown(f"the environment variable {name} (not set here; it may be when launching)",
+                               m.where(n))
+            if presence:
+                return False
+            if required:
+                raise PyError("KeyError", repr(str(name)), m.where(n), sure=True)
+            return default
+        if isinstance(v, str) and opaque(v):
+            return Unknown(f"the environment variable {name} (tvl-lsp cannot compute it)", m.where(n))
+        return True if presence else v
+
     def perform(self, ctx, subs, m, n):
         if isinstance(ctx, LObj) and ctx.cls == "LaunchContext":   # LaunchContext() made by the file
             from .launchapi import perform_fresh

@@ -272,6 +272,11 @@ class LCMap:
     """``context.launch_configurations``."""
 
 
+class CtxEnvMap:
+    """``context.environment``: the process's environment with the launch's SetEnvironmentVariable /
+    UnsetEnvironmentVariable changes in scope."""
+
+
 def is_unknown(v) -> bool:
     return isinstance(v, Unknown)
 
