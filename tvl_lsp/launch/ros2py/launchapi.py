@@ -87,6 +87,9 @@ def _str_item(x):
         return x
     if isinstance(x, (bool, int, float)) or x is None:
         return str(x)
+    from .values import PathObj
+    if isinstance(x, PathObj):   # not Iterable: str(path)
+        return x.path
     return x
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ast
 from dataclasses import dataclass, field
+from pathlib import PurePosixPath
 from typing import Any, Optional
 
 from ...base.text import LineIndex, Pos, Span
@@ -237,7 +238,8 @@ class PathObj:
     __slots__ = ("path",)
 
     def __init__(self, path: str):
-        self.path = path
+        # str(Path(...)) as pathlib spells it: no '.' parts, no doubled or trailing '/' (pure text)
+        self.path = str(PurePosixPath(path))
 
     def __repr__(self) -> str:
         return f"PosixPath({self.path!r})"
