@@ -485,3 +485,22 @@ def generate_launch_description():
     assert [d.code for d in diags if d.severity == 1] == [], [(d.code, d.message) for d in diags]
     unset = [d for d in diags if d.code == "unset-arg"]
     assert len(unset) == 1 and _text_at(p, unset[0].span) == "mm", [(d.code, d.message) for d in diags]
+
+
+def test_a_node_whose_executable_is_a_path_is_declined_by_the_concrete_load(tmp_path):
+    """Node(executable='/dev/null') (a LaunchConfiguration default that must be overridden):
+    launch_ros' which() looks at that path, not in the package -- whether it runs depends on the
+    machine (the oracle: SubstitutionFailure for /dev/null).  Declined at the executable, never a
+    node list; a plain executable name still loads."""
+    p = _ws(tmp_path, HEAD + """
+def generate_launch_description():
+    exe = LaunchConfiguration('scenario', default='/dev/null')
+    return LaunchDescription([Node(package='demo_pkg', executable=exe, name='s'),
+                              Node(package='demo_pkg', executable='a', name='a')])
+""")
+    res = load_launch2(str(p), {}, workspace_root=str(tmp_path / "ws"), env=ENV, stub_packages=True)
+    assert res.error_type == "NotAnalysed" and "executable of this node is a path" in res.error, res.error
+    assert res.error_line == 9   # the executable= value
+    res = load_launch2(str(p), {"scenario": "runner"}, workspace_root=str(tmp_path / "ws"), env=ENV,
+                       stub_packages=True)
+    assert res.error is None and sorted(n["executable"] for n in res.nodes) == ["a", "runner"]
