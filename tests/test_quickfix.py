@@ -1,0 +1,218 @@
+"""Quick fixes for model anomalies (#30): every finding of the planted fixtures (TVL and UVL) has a
+fix, and every fix, applied to the text and checked again by the whole ``--check`` pipeline,
+removes its finding and adds none."""
+
+from __future__ import annotations
+
+from collections import Counter
+from pathlib import Path
+
+import pytest
+
+from quickfix_gen import random_model
+from testenv import DATA
+from tvl_lsp.analysis import fixes as afix
+from tvl_lsp.analysis.formats import parse_any_model
+from tvl_lsp.project.check import check_model
+from tvl_lsp.project.fixes import (ANOMALY_CODES, apply_edits, finding_key, fix_file, fixes_for)
+
+QF = DATA / "quickfix"
+FIXTURES = sorted(p.name for p in QF.iterdir() if p.suffix in (".tvl", ".uvl"))
+ERROR = 1
+
+
+def keys(path: str, text: str) -> tuple[Counter, list]:
+    diags = check_model(path, text)
+    return Counter(finding_key(d, text) for d in diags), diags
+
+
+# What a void model's check hides (it reports the conflict only) and a fix then shows: what the
+# planted fixtures have besides their conflict.
+HIDDEN = {
+    "void.tvl": {("redundant-constraint", "Radio -> Engine;")},
+    "void.uvl": {("redundant-constraint", "Radio => Engine")},
+    "void_always_false.tvl": {("redundant-constraint", "Radio -> Engine;")},
+    "void_always_false.uvl": {("redundant-constraint", "Radio => Car")},
+}
+
+
+def check_fixes(path: str, text: str, require_all: bool = True, hidden=None) -> int:
+    """Assert every fix of every finding (``hidden``: what the void model's conflict hides; None:
+    unknown, a void model's fixes are then only checked to add no error); returns the number of
+    fixes checked."""
+    before, diags = keys(path, text)
+    base = Counter(hidden or ())
+    report = fixes_for(path, text, budget=60)
+    assert not report.unreached
+    n = 0
+    for d in diags:
+        if d.code not in ANOMALY_CODES:
+            continue
+        k = finding_key(d, text)
+        fixes = report.fixes.get(k)
+        if require_all:
+            assert fixes, f"no fix for {k} in {path}"
+        assert sum(1 for f in fixes or [] if f.preferred) <= 1
+        for f in fixes or []:
+            new = apply_edits(text, f.edits)
+            assert new != text
+            after, after_diags = keys(path, new)
+            assert after[k] < before[k], (f.title, k)
+            added = after - ((before - Counter([k])) | base)
+            if d.code in ("void-model", "always-false-constraint") and hidden is None:
+                assert not any(x.severity == ERROR for x in after_diags if finding_key(x, new) in added)
+            else:
+                assert not added, (f.title, added)
+            assert not any(x.severity == ERROR for x in after_diags if x.code not in ANOMALY_CODES
+                           and finding_key(x, new) not in before)
+            n += 1
+    return n
+
+
+@pytest.mark.parametrize("name", FIXTURES)
+def test_every_finding_has_a_checked_fix(name):
+    path = str(QF / name)
+    text = (QF / name).read_text()
+    assert check_fixes(path, text, hidden=HIDDEN.get(name, set())) > 0
+
+
+def test_titles_say_what_each_fix_does():
+    path = str(QF / "dead.tvl")
+    r = fixes_for(path, (QF / "dead.tvl").read_text())
+    titles = [f.title for f in r.fixes[("dead-feature", "Lidar")]]
+    assert titles == ["Remove the constraint `Camera -> !Lidar;` (makes Lidar not dead)",
+                      "Remove the constraint `ifIn: Camera;` (makes Lidar not dead)"]
+    # two constraints each kill Gripper: no single removal revives it, the pair does
+    assert [f.title for f in r.fixes[("dead-feature", "Gripper")]] == [
+        "Remove the constraints `Base -> !Gripper;` and `Wrist -> !Gripper;` (makes Gripper not dead)"]
+    fo = fixes_for(str(QF / "false_optional.uvl"), (QF / "false_optional.uvl").read_text())
+    assert [f.title for f in fo.fixes[("false-optional", "Logger", "Robot")]] == [
+        "Make Logger mandatory (move it under `mandatory`) and remove the redundant constraint `Robot => Logger`",
+        "Remove the constraint `Robot => Logger` (Logger becomes really optional)"]
+    assert fo.fixes[("false-optional", "Logger", "Robot")][0].preferred
+
+
+def fixed(name: str, key: tuple, i: int = 0) -> str:
+    text = (QF / name).read_text()
+    r = fixes_for(str(QF / name), text)
+    return apply_edits(text, r.fixes[key][i].edits)
+
+
+def test_uvl_feature_moves_under_the_existing_mandatory_group():
+    new = fixed("false_optional.uvl", ("false-optional", "Battery", "Robot"))
+    assert new.startswith("features\n\tRobot\n\t\tmandatory\n\t\t\tBase\n\t\t\tBattery {capacity 5000}\n"
+                          "\t\t\t\talternative\n\t\t\t\t\tLiIon\n\t\t\t\t\tNiMh\n\t\toptional\n\t\t\tLogger\n"
+                          "\t\t\tCharger\n")
+    assert "Robot => Battery" not in new and "Robot => Logger" in new
+
+
+def test_uvl_sole_optional_child_renames_its_group_and_a_new_group_is_made_otherwise():
+    new = fixed("false_optional.uvl", ("false-optional", "Led", "Lights"))
+    assert "\t\t\tLights\n\t\t\t\tmandatory\n\t\t\t\t\tLed\n" in new
+    new = fixed("false_optional_new_group.uvl", ("false-optional", "Catalog", "Shop"))
+    assert new == ("features\n  Shop\n    mandatory\n      Catalog\n    optional\n      Search\n    or\n"
+                   "      Card\n      Paypal\n\nconstraints\n  Paypal => Card\n")
+
+
+def test_tvl_opt_dropped():
+    new = fixed("false_optional.tvl", ("false-optional", "Led", "Lights"))
+    assert "Lights group oneOf { Led, Lamp }" in new
+    r = fixes_for(str(QF / "false_optional.tvl"), (QF / "false_optional.tvl").read_text())
+    assert r.fixes[("false-optional", "Led", "Lights")][0].title == \
+        "Make Led a plain member of its oneOf group (drop `opt`)"
+
+
+def test_removals_keep_the_text_tidy():
+    # one constraint of two on a line; an attribute constraint; one of a list; a section emptied
+    assert "  Card -> Search;\n" in fixed("redundant.tvl", ("redundant-constraint", "Search -> Catalog;"))
+    assert "            Catalog\n" in fixed("redundant.uvl", ("redundant-constraint", "Catalog => Shop"))
+    assert "Payment {abstract, constraints [Payment => Catalog]}" in fixed(
+        "redundant.uvl", ("redundant-constraint", "Payment => Shop"))
+    new = fixed("void_always_false.uvl", ("always-false-constraint", "!Engine & Radio"))
+    assert new.endswith("constraints\n    Radio => Car\n")
+    # a reopened feature whose only constraint goes goes with it
+    new = fixed("several.tvl", ("false-optional", "Gps", "Nav"))
+    assert "Nav {\n  Compass -> Nav;\n}\n\nRadio {" in new
+    new = fix_file(str(QF / "several.tvl"), (QF / "several.tvl").read_text()).text
+    assert "Nav {" not in new and "  int weight is 1200;\n}\n\nRadio {" in new
+
+
+@pytest.mark.parametrize("text,fmt,target,want", [
+    ("root A {\n  group allOf { opt B }\n  A -> B;\n}", "tvl", "A -> B;", "root A {\n  group allOf { opt B }\n}"),
+    ("root A {\r\n  group allOf { opt B }\r\n  A -> B;\r\n}\r\n", "tvl", "A -> B;",
+     "root A {\r\n  group allOf { opt B }\r\n}\r\n"),
+    ("root A {\n  group allOf { opt B { ifIn: A; } }\n}\n", "tvl", "ifIn: A;",
+     "root A {\n  group allOf { opt B }\n}\n"),
+    ("root A {\n  group allOf { opt B }\n  A ->\n    B; // why\n}\n", "tvl", "A ->\n    B;",
+     "root A {\n  group allOf { opt B }\n}\n"),
+    ("features\n    A\n        optional\n            B\nconstraints\n    A => B", "uvl", "A => B",
+     "features\n    A\n        optional\n            B\n"),
+    ("features\n    A {constraint A => B}\n        optional\n            B\n", "uvl", "A => B",
+     "features\n    A\n        optional\n            B\n"),
+    ("features\n    A {abstract, constraints [A => B, B => A]}\n        optional\n            B\n", "uvl", "B => A",
+     "features\n    A {abstract, constraints [A => B]}\n        optional\n            B\n"),
+    ("features\n    A {constraints [B => A]}\n        optional\n            B\n", "uvl", "B => A",
+     "features\n    A\n        optional\n            B\n"),
+])
+def test_remove_constraint_forms(text, fmt, target, want):
+    a = text.index(target)
+    from tvl_lsp.base.text import LineIndex
+    idx = LineIndex(text)
+    assert afix.remove_constraint(text, fmt, idx.span(a, a + len(target))) == want
+    assert not [d for d in parse_any_model(want, "m." + fmt).diagnostics if d.severity == ERROR]
+
+
+def test_edits_are_exact_and_in_order():
+    for name in FIXTURES:
+        text = (QF / name).read_text()
+        r = fixes_for(str(QF / name), text)
+        for fs in r.fixes.values():
+            for f in fs:
+                spans = [e.span for e in f.edits]
+                assert spans == sorted(spans, key=lambda s: (s.start, s.end))
+                for s1, s2 in zip(spans, spans[1:]):
+                    assert s1.end <= s2.start
+                assert all(e.path == str(QF / name) for e in f.edits)
+
+
+@pytest.mark.parametrize("seed", range(0, 60, 3))
+@pytest.mark.parametrize("fmt", ["tvl", "uvl"])
+def test_random_models(seed, fmt, tmp_path):
+    """Random models, every finding: each fix checked by the whole pipeline."""
+    text = random_model(seed, fmt, n=8 + seed % 9, constraints=2 + seed % 7)
+    path = str(tmp_path / f"m.{fmt}")
+    Path(path).write_text(text)
+    check_fixes(path, text)
+
+
+def test_fix_file_fixes_everything_and_adds_nothing():
+    for name in FIXTURES:
+        path = str(QF / name)
+        text = (QF / name).read_text()
+        run = fix_file(path, text)
+        assert run.applied and not run.unfixed and not run.unreached, name
+        after, diags = keys(path, run.text)
+        assert not [d for d in diags if d.code in ANOMALY_CODES], name
+        assert not [d for d in diags if d.severity == ERROR], name
+
+
+def test_budget_and_formats_never_crash(tmp_path):
+    text = (QF / "several.uvl").read_text()
+    r = fixes_for(str(QF / "several.uvl"), text, budget=0.0)
+    assert not r.complete and not any(r.fixes.values())
+    dimacs = tmp_path / "m.dimacs"
+    dimacs.write_text("p cnf 2 2\n1 0\n-1 0\n")
+    assert fixes_for(str(dimacs), dimacs.read_text()).fixes == {}
+    broken = "root A {\n  group allOf { opt B }\n  A -> ;\n}\n"
+    p = tmp_path / "b.tvl"
+    p.write_text(broken)
+    fixes_for(str(p), broken)  # a syntax error: whatever it offers is checked
+    check_fixes(str(p), broken, require_all=False)
+
+
+def test_same_content_same_answer_without_work():
+    text = (QF / "dead.uvl").read_text()
+    a = fixes_for(str(QF / "dead.uvl"), text)
+    b = fixes_for(str(QF / "dead.uvl"), text, keys=[("dead-feature", "Lidar")])
+    assert b is a  # the whole report answers a request for some findings
+    assert b.fixes[("dead-feature", "Lidar")]
