@@ -216,3 +216,87 @@ def test_same_content_same_answer_without_work():
     b = fixes_for(str(QF / "dead.uvl"), text, keys=[("dead-feature", "Lidar")])
     assert b is a  # the whole report answers a request for some findings
     assert b.fixes[("dead-feature", "Lidar")]
+
+
+# ------------------------------------------------------------------ tvl-lsp --check --fix
+
+def cli(capsys, monkeypatch, cwd, *argv):
+    from tvl_lsp.main import main
+    monkeypatch.chdir(cwd)
+    code = main(["--check", "-j", "1", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def copy_fixtures(tmp_path, *names):
+    import shutil
+    for n in names:
+        shutil.copy(QF / n, tmp_path / n)
+    return tmp_path
+
+
+def test_check_fix_dry_run_prints_a_patch_and_writes_nothing(capsys, monkeypatch, tmp_path):
+    import subprocess
+    ws = copy_fixtures(tmp_path, "dead.uvl", "false_optional.tvl", "void.tvl")
+    before = {p.name: p.read_text() for p in ws.iterdir()}
+    code, out, err = cli(capsys, monkeypatch, ws, "--fix", ".")
+    assert code == 1  # something to fix
+    assert {p.name: p.read_text() for p in ws.iterdir()} == before
+    assert "--- a/dead.uvl\n+++ b/dead.uvl\n" in out and "-    Camera\n" in out
+    assert "dead.uvl: Remove the constraint `Camera` (makes Lidar not dead)" in err
+    assert "fix(es) in 3 model(s) proposed" in err
+    # the patch applies: git apply / patch take it as it is
+    (ws / "fix.patch").write_text(out)
+    import shutil
+    if shutil.which("git") is None:
+        pytest.skip("git is not installed (the patch is checked with git apply)")
+    r = subprocess.run(["git", "apply", "--unsafe-paths", "fix.patch"], cwd=ws, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    code, out, err = cli(capsys, monkeypatch, ws, "--fix", "dead.uvl", "false_optional.tvl", "void.tvl")
+    assert code == 0 and out == ""
+    code, out, _ = cli(capsys, monkeypatch, ws, "dead.uvl", "false_optional.tvl", "void.tvl")
+    assert not any(c in out for c in ANOMALY_CODES)
+
+
+def test_check_fix_apply_writes_then_checks(capsys, monkeypatch, tmp_path):
+    ws = copy_fixtures(tmp_path, "several.uvl", "void_always_false.tvl")
+    code, out, err = cli(capsys, monkeypatch, ws, "--fix", "--apply", ".")
+    assert "fix(es) in 2 model(s) made" in err
+    assert code == 0, out  # the void model's error is gone
+    assert not any(c in out for c in ANOMALY_CODES)
+    assert "not-analysed" in out  # the check report of what is left
+    text = (ws / "several.uvl").read_text()
+    assert "                mandatory\n                    Gps\n" in text
+    assert not list(ws.glob(".tvl-lsp-*"))  # no temporary file left
+
+
+def test_check_fix_select_and_usage(capsys, monkeypatch, tmp_path):
+    ws = copy_fixtures(tmp_path, "several.tvl")
+    code, out, err = cli(capsys, monkeypatch, ws, "--fix", "--select", "redundant-constraint", ".")
+    assert code == 1
+    assert "-  Compass -> Nav;" in out and "Heated" not in out and "opt Gps" not in out
+    code, out, err = cli(capsys, monkeypatch, ws, "--fix", "--ignore", "dead-feature,false-optional,"
+                         "redundant-constraint", ".")
+    assert code == 0 and out == ""
+    code, _, err = cli(capsys, monkeypatch, ws, "--apply", ".")
+    assert code == 2 and "--apply goes with --fix" in err
+
+
+def test_check_fix_never_writes_a_changed_or_linked_file(tmp_path):
+    from tvl_lsp.cli.fix import _write
+    p = tmp_path / "m.tvl"
+    p.write_text("new on disk")
+    assert "changed" in _write(str(p), "fixed", "old")
+    assert p.read_text() == "new on disk"
+    target = tmp_path / "real.tvl"
+    target.write_text("old")
+    link = tmp_path / "link.tvl"
+    link.symlink_to(target)
+    assert _write(str(link), "fixed", "old") is not None
+    assert target.read_text() == "old"
+
+
+def test_unified_diff_marks_a_missing_final_newline():
+    from tvl_lsp.cli.fix import unified_diff
+    d = unified_diff("a\nb", "a\n", "m.tvl")
+    assert d.endswith("-b\n\\ No newline at end of file\n")
