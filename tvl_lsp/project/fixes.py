@@ -140,6 +140,8 @@ class Checker:
         diags = list(res.diagnostics)
         if res.model.root is not None:
             left = self.left()
+            # (a void model's explanation is its only finding's: the fixes start from it)
+            explain = explain or analysis.is_void()
             diags += analysis.anomalies(time_budget=left, hard_budget=left, explain=explain)
         st = self._made(text, diags, res, analysis, False)
         self._states[key] = st
@@ -355,16 +357,12 @@ class _Search:
         expected = st.keys - Counter([target])
         steps = candidate_steps(st, self.path, d, self.checker.deadline)[:MAX_OFFERS * 2]
         if st.keys[(VOID,)]:
-            # a void model reports nothing else: what every way out of the conflict shows was
-            # hidden by it, not made by the fix (one constraint excluding another: removing
-            # either leaves a third constraint redundant as it was before)
-            common = None
-            for step in steps:
-                after = self._first(st, step)
-                if after is not None:
-                    common = after.keys if common is None else common & after.keys
-            if common is not None:
-                expected = expected | common
+            # a void model reports nothing else: what the model has without the constraints of
+            # its conflict was hidden by it, not made by the fix (what the conflict's other
+            # constraints do once one goes is the fix's, and is settled below)
+            base = self._without_conflict(st)
+            if base is not None:
+                expected = expected | base.keys
         for step in steps:
             if self.checker.expired() or len(out) >= MAX_OFFERS:
                 break
@@ -378,8 +376,29 @@ class _Search:
             out.append(o)
         clean = [o for o in out if o.clean]
         out = clean or [o for o in out if not o.new_errors]
+        # the preferred first: a feature made mandatory (the products stay the same), then the
+        # smallest change; else in the order of the explanation
+        out.sort(key=lambda o: (o.steps[0].kind != "mandatory", sum(max(1, len(s.constraints)) for s in o.steps)))
         self._memo[memo] = out
         return out
+
+    def _without_conflict(self, st: State) -> Optional[State]:
+        """The check of a void model's text without the constraints of its conflict (those the
+        void-model diagnostic names), or None."""
+        from ..analysis.fixes import removable
+        void = next((x for x in st.diagnostics if x.code == VOID), None)
+        if void is None:
+            return None
+        fmt = st.result.model.format
+        spans = {r.span for r in void.related if r.path == self.path}
+        cons = [e for e in st.analysis.encoding.elements if removable(e, self.path) and e.span in spans]
+        if not cons:
+            with st.analysis._lock:
+                ex = st.analysis.analyzer.explain([], deadline=self.checker.deadline)
+            cons = [e for e in (ex.elements if ex else []) if removable(e, self.path)]
+        text = _remove_all(st.text, fmt, [e.span for e in cons]) if cons else None
+        base = self.checker.state(text) if text is not None else None
+        return base if base is not None and base.complete else None
 
     def _first(self, st0: State, step: Step) -> Optional[State]:
         """The check of one step's text."""
