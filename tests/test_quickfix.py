@@ -33,6 +33,7 @@ HIDDEN = {
     "void.uvl": {("redundant-constraint", "Radio => Engine")},
     "void_always_false.tvl": {("redundant-constraint", "Radio -> Engine;")},
     "void_always_false.uvl": {("redundant-constraint", "Radio => Car")},
+    "cardinality.uvl": {("dead-feature", "Arm"), ("dead-feature", "Gripper"), ("dead-feature", "Wrist")},
 }
 
 
@@ -112,6 +113,16 @@ def test_uvl_sole_optional_child_renames_its_group_and_a_new_group_is_made_other
     new = fixed("false_optional_new_group.uvl", ("false-optional", "Catalog", "Shop"))
     assert new == ("features\n  Shop\n    mandatory\n      Catalog\n    optional\n      Search\n    or\n"
                    "      Card\n      Paypal\n\nconstraints\n  Paypal => Card\n")
+
+
+def test_a_group_asking_for_more_children_than_it_has():
+    text = (QF / "cardinality.uvl").read_text().replace("    !Camera & !Depth | Arm\n", "")
+    path = str(QF / "cardinality.uvl")
+    r = fixes_for(path, text)
+    [fix] = r.fixes[("dead-feature", "Gripper")]
+    assert fix.title == ("Change the group `[3..4]` of Arm, which has 2 children, to `[2..2]` "
+                         "(makes Arm, Gripper and Wrist not dead)")
+    assert "                [2..2]\n" in apply_edits(text, fix.edits)
 
 
 def test_tvl_opt_dropped():

@@ -414,6 +414,28 @@ def _uvl_mandatory(text: str, parent: M.Feature, feature: M.Feature) -> Optional
     return new, what
 
 
+# ------------------------------------------------------------------ a group that cannot be satisfied
+
+def relax_group(text: str, group: M.Group) -> Optional[tuple[str, str]]:
+    """A ``[n..m]`` group asking for more children than it has, bounded by what it has (``[3..4]``
+    of two children becomes ``[2..2]``): (new text, what it does), or None."""
+    if group.kind != "card":
+        return None
+    n = len({id(c.feature) for c in group.children})
+    if group.lo <= n or n == 0:
+        return None
+    lo = n
+    hi = None if group.hi is None else max(lo, min(group.hi, n))
+    idx = LineIndex(text)
+    a, b = idx.offset(group.keyword_span.start), idx.offset(group.keyword_span.end)
+    old = text[a:b]
+    if not (old.startswith("[") and old.endswith("]")):
+        return None
+    new = f"[{lo}..{'*' if hi is None else hi}]"
+    owner = group.owner.name if group.owner is not None else "its feature"
+    return text[:a] + new + text[b:], f"change the group `{old}` of {owner}, which has {n} children, to `{new}`"
+
+
 # ------------------------------------------------------------------ which constraints to remove
 
 def _satisfies(model: list[int], clauses: list[list[int]]) -> bool:

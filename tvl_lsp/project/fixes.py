@@ -232,7 +232,7 @@ class Checker:
 class Step:
     text: str
     phrase: str      # lower case, "remove the constraint `A -> !B;`"
-    kind: str        # "remove" | "mandatory"
+    kind: str        # "remove" | "mandatory" | "group"
     constraints: tuple = ()   # the constraints it removes (their text)
     redundant: bool = False   # ... which the model implies anyway
     spans: tuple = ()         # ... where they are in the text before the step
@@ -276,6 +276,23 @@ def _removal_steps(st: State, path: str, sets: list[list]) -> list[Step]:
     return out
 
 
+def _structural_steps(st: State, path: str, extra: list[int], deadline: Optional[float]) -> list[Step]:
+    """Edits of the feature tree that the explanation of ``extra`` points at: a ``[n..m]`` group
+    asking for more children than it has."""
+    from ..analysis.fixes import relax_group
+    from ..tvl import model as M
+    an = st.analysis
+    with an._lock:
+        ex = an.analyzer.explain(extra, deadline=deadline)
+    out = []
+    for e in (ex.elements if ex else []):
+        if e.kind == "group-lower" and e.path == path and isinstance(e.obj, M.Group):
+            r = relax_group(st.text, e.obj)
+            if r is not None:
+                out.append(Step(r[0], r[1], "group"))
+    return out
+
+
 def candidate_steps(st: State, path: str, d: Diagnostic, deadline: Optional[float]) -> list[Step]:
     """The edits that may fix the finding ``d`` of the checked text ``st`` (not checked yet)."""
     from ..analysis.fixes import correction_sets, make_mandatory, source_text
@@ -297,7 +314,9 @@ def candidate_steps(st: State, path: str, d: Diagnostic, deadline: Optional[floa
         f = enc.feature_by_name(data.get("feature", ""))
         if f is None:
             return []
-        return _removal_steps(st, path, correction_sets(an, [enc.var_of_feature[f]], path, deadline=deadline))
+        extra = [enc.var_of_feature[f]]
+        return (_removal_steps(st, path, correction_sets(an, extra, path, deadline=deadline))
+                + _structural_steps(st, path, extra, deadline))
     if d.code == FALSE_OPT:
         f = enc.feature_by_name(data.get("feature", ""))
         p = enc.feature_by_name(data.get("parent") or "")
@@ -312,7 +331,8 @@ def candidate_steps(st: State, path: str, d: Diagnostic, deadline: Optional[floa
         out += _removal_steps(st, path, correction_sets(an, [v[p], -v[f]], path, deadline=deadline))
         return out
     if d.code == VOID:
-        return _removal_steps(st, path, correction_sets(an, [], path, deadline=deadline))
+        return (_removal_steps(st, path, correction_sets(an, [], path, deadline=deadline))
+                + _structural_steps(st, path, [], deadline))
     return []
 
 
