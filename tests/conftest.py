@@ -137,7 +137,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
 def pytest_report_header(config: pytest.Config) -> str:
     corpus = corpus_option(config)
-    return f"corpus: {corpus}" if corpus else "corpus: none (tests marked `corpus` deselected; --corpus DIR runs them)"
+    return f"corpus: {corpus}" if corpus else "corpus: none (tests marked `corpus` deselected; --corpus=DIR runs them)"
 
 
 @pytest.fixture(scope="session")

@@ -4,6 +4,7 @@ has a layer, and modules stay small enough to read."""
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
@@ -148,3 +149,42 @@ def test_every_sat_solver_is_interruptible():
     bad = [str(p.relative_to(REPO)) for p in PACKAGE.rglob("*.py")
            if p.name != "sat.py" and direct.search(p.read_text(encoding="utf-8"))]
     assert bad == []
+
+
+def test_server_module_is_the_public_entry_point():
+    """tvl_lsp.server is the server's public entry (create_server, serve), the object the lsp
+    package builds, with every feature registered; the console command starts it."""
+    import inspect
+
+    import tvl_lsp.main
+    import tvl_lsp.server as public
+    from tvl_lsp.lsp import server as impl
+    assert public.create_server is impl.create_server and public.TvlLanguageServer is impl.TvlLanguageServer
+    assert list(inspect.signature(public.serve).parameters) == ["tcp"]
+    server = public.create_server()
+    commands = set(server.protocol.fm.commands)
+    assert {"tvl-lsp.explain", "tvl-lsp.count", "tvl-lsp.configurator"} <= commands
+    assert '"tvl_lsp.server"' in inspect.getsource(tvl_lsp.main._main)
+
+
+def _layer_names(layer: str) -> list[str]:
+    return [m.strip().removeprefix("tvl_lsp.") for m in layer.split("|")]
+
+
+def test_the_layer_pictures_match_the_contract():
+    """docs/architecture.md draws the layers contract of pyproject.toml line by line, in order,
+    and the README's "How it is built" names every layer."""
+    layers = next(c for c in _config()["contracts"] if c["type"] == "layers")["layers"]
+    want = [" | ".join(_layer_names(layer)) for layer in layers]
+    doc = (REPO / "docs" / "architecture.md").read_text(encoding="utf-8")
+    intro = doc.index("a layer imports only from the layers below it")
+    block = doc[doc.index("```\n", intro) + 4: doc.index("\n```", doc.index("```\n", intro) + 4)]
+    drawn = [re.split(r"\s{2,}", line.strip())[0] for line in block.splitlines() if line.strip()]
+    assert drawn == want, f"docs/architecture.md's layer picture: {drawn}, the contract: {want}"
+    names = {n for layer in layers for n in _layer_names(layer)}
+    for name in names:
+        assert f"`{name}`" in doc or f"{name}/" in doc or f"{name}.py" in doc, name
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    built = readme[readme.index("## How it is built"):]
+    missing = sorted(n for n in names if not re.search(rf"`(tvl_lsp/)?{n}(/|\.py)?`", built))
+    assert not missing, f"README's How it is built leaves out {missing}"

@@ -95,7 +95,7 @@ def _main(argv: list[str]) -> int:
         if argv and argv[0] in ("-h", "--help"):
             print(__doc__)
             return 0
-        return _run("tvl_lsp.lsp.server", argv)
+        return _run("tvl_lsp.server", argv)
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:

@@ -520,14 +520,10 @@ class Session:
 
     def pairwise(self, decisions: Mapping[str, bool], seed: int = 0) -> list[dict[str, bool]]:
         """A pairwise (t = 2) sample of the products that respect ``decisions``: every
-        configuration is a product, every valid pair of feature choices is in one of them (the
-        counting service's sampler, over the compiled d-DNNF; a SAT solver where d4 cannot
-        count)."""
+        configuration is a product, every valid pair of feature choices is in one of them
+        (:mod:`tvl_lsp.analysis.sampling`: a SAT solver, no compilation to wait for)."""
         inc = [k for k, v in decisions.items() if v]
         exc = [k for k, v in decisions.items() if not v]
-        st = self.compile_status()
-        if st.state == "compiling":
-            st = self.analysis.counter.wait(self.compile_budget)
         try:
             with self._count_lock:
                 products, _ = self.analysis.sample(t=2, seed=seed, include=inc, exclude=exc,

@@ -44,8 +44,7 @@ def launch_stem(path: str) -> str:
 
 
 LAUNCH_DIALECT = register("launch-dialect", Severity.INFORMATION,
-                          "Which launch dialect (ROS 1 or ROS 2) tvl-lsp reads a file as, when its content does not "
-                          "say", "launch")
+                          "Which launch dialect (ROS 1 or ROS 2) tvl-lsp reads a file as, when its content does not say.", "launch")
 
 
 def dialect_of(path: str, text: Optional[str] = None) -> Dialect:

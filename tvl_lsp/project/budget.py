@@ -27,7 +27,7 @@ from ..base.text import Pos, Span
 
 BUDGET_EXCEEDED = register(
     "analysis-budget-exceeded", Severity.ERROR,
-    "a file's check used more CPU time or memory than its budget; it was stopped, the rest was checked",
+    "A file's check used more CPU time or memory than its budget; it was stopped, the rest was checked.",
     "workspace")
 
 CPU_SECONDS = 30.0            # per file, CPU time (the SAT analyses have their own, smaller budgets)

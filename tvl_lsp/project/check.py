@@ -116,14 +116,14 @@ def _internal(path: str, msg: str) -> Diagnostic:
 from ..base.diagnostics import register as _register  # noqa: E402
 
 INTERNAL_ERROR = _register("internal-error", Severity.ERROR,
-                           "tvl-lsp failed while analysing a file (a bug: please report it)", "workspace")
+                           "The check of a file failed inside tvl-lsp (a bug: please report it).", "workspace")
 FILE_UNREADABLE = _register(
     "file-unreadable", Severity.ERROR,
-    "a file in the workspace that tvl-lsp must not read (a device, a FIFO, a socket) or that is over the size cap",
+    "A file in the workspace that tvl-lsp must not read (a device, a FIFO, a socket) or that is over the size cap.",
     "workspace")
 MODEL_NOT_CHECKABLE = _register(
     "paired-model-invalid", Severity.INFORMATION,
-    "The launch file's model has syntax errors: the checks against it wait until they are fixed", "cross")
+    "The launch file's model has syntax errors: the checks against it wait until they are fixed.", "cross")
 
 # errors after which the model's structure may be incomplete (features missing or misplaced):
 # checking a launch file against it would report args "naming no feature" that are fine

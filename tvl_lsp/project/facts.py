@@ -502,6 +502,18 @@ def list_products(path: str, sources: dict[str, str], decisions: dict[str, bool]
             "truncated": total is not None and total > len(prods)}
 
 
+def sample_products(path: str, sources: dict[str, str], decisions: dict[str, bool], t: int = 2, seed: int = 0,
+                    budget: Optional[float] = None, iterations: Optional[int] = None, jobs: int = 1):
+    """A ``t``-wise sample of the products respecting the decisions: (products, None), or
+    (products so far, the :class:`~tvl_lsp.analysis.sampling.SampleResult`) when the budget
+    stopped it first."""
+    eng = _engine(path, sources)
+    inc, exc = _split(eng, decisions)
+    products, r = eng.twise_sample(t, seed=seed, include=inc, exclude=exc, budget=budget, iterations=iterations,
+                                   jobs=jobs)
+    return products, (None if r.complete else r)
+
+
 def generation_products(path: str, sources: dict[str, str], decisions: dict[str, bool], mode: str,
                         limit: int, t: int = 2, seed: int = 0) -> list[dict[str, bool]]:
     """Products to write configuration files for: ``one`` (the smallest product respecting the

@@ -22,8 +22,8 @@ How a count is answered:
    auxiliary variables are not determined, when d4 fails, or when d4 runs out of its share of
    the time budget (three quarters of it; pyganak gets the rest).
 
-Every result says which engine answered.  ``ddnnife`` (the d-DNNF reasoner) answers t-wise
-sampling of big models (:mod:`.sampling`) from the same compiled file.
+Every result says which engine answered.  Uniform sampling draws from the compiled circuit;
+t-wise sampling needs no compilation (:mod:`tvl_lsp.analysis.sampling`: a warm SAT solver).
 """
 
 from __future__ import annotations
