@@ -311,3 +311,22 @@ def test_unified_diff_marks_a_missing_final_newline():
     from tvl_lsp.cli.fix import unified_diff
     d = unified_diff("a\nb", "a\n", "m.tvl")
     assert d.endswith("-b\n\\ No newline at end of file\n")
+
+
+def test_many_dead_features_are_revived_at_once(tmp_path):
+    """fix_file removes every dead feature's constraints together (one re-check): removing
+    constraints from a model with products adds no finding, and the check confirms it."""
+    kids = ", ".join(f"opt X{i}" for i in range(8))
+    cons = "\n".join(f"  Core -> !X{i};" for i in range(6)) + "\n  X6 -> X7;\n"
+    text = f"root R {{\n  group allOf {{ Core, {kids} }}\n{cons}}}\n"
+    p = tmp_path / "many.tvl"
+    p.write_text(text)
+    before, _ = keys(str(p), text)
+    assert sum(1 for k in before if k[0] == "dead-feature") == 6
+    run = fix_file(str(p), text)
+    assert not run.unfixed and not run.left
+    after, diags = keys(str(p), run.text)
+    assert not [d for d in diags if d.code in ANOMALY_CODES]
+    assert "X6 -> X7;" in run.text and "Core -> !" not in run.text
+    assert sorted(t for _, t in run.applied)[0] == "Remove the constraint `Core -> !X0;` (makes X0 not dead)"
+    assert run.checks <= 3  # the text, the batch: not one check per feature

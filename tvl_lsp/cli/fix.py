@@ -111,8 +111,8 @@ def run(paths: list[str], codes: set[str], apply: bool, budget: Optional[float],
                 p = d.span.start
                 print(f"{name}:{p.line + 1}:{p.col + 1}: no fix found for [{d.code}] {d.message}", file=sys.stderr)
             if run.unreached:
-                print(f"{name}: the fixes stopped at their time budget ({budget:g} s, --fix-budget); "
-                      "run again to go on", file=sys.stderr)
+                print(f"{name}: the fixes stopped at their time budget ({budget:g} s, --fix-budget) with "
+                      f"{len(run.left)} finding(s) not reached; run again to go on", file=sys.stderr)
         if run.text == text:
             continue
         fixes += len(run.applied)

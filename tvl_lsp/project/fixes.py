@@ -665,7 +665,8 @@ def fixes_for(path: str, text: str, read_file: Optional[ReadFile] = None, keys: 
 class FixRun:
     text: str                                          # the text with every fix applied
     applied: list = field(default_factory=list)        # (finding key, title) in the order applied
-    unfixed: list = field(default_factory=list)        # findings left (Diagnostics of the new text)
+    unfixed: list = field(default_factory=list)        # findings no fix was found for (of the new text)
+    left: list = field(default_factory=list)           # findings not reached (the budget ran out)
     unreached: bool = False                            # the budget ran out first
     checks: int = 0
 
@@ -686,10 +687,14 @@ def fix_file(path: str, text: str, read_file: Optional[ReadFile] = None, codes: 
         return run
     search = _Search(checker, path)
     given_up: set = set()
+    batched = False
     while True:
         if not st.complete:
             run.unreached = True
             break
+        if not batched and DEAD in codes and not st.keys[(VOID,)]:
+            batched = True
+            st = _revive_all(checker, st, path, run)
         todo = [d for d in st.findings(codes) if d.path == path and finding_key(d, st.text) not in given_up]
         if not todo:
             break
@@ -707,9 +712,58 @@ def fix_file(path: str, text: str, read_file: Optional[ReadFile] = None, codes: 
         run.applied.append((k, title_of(o)))
         st = o.state
     run.text = st.text
-    run.unfixed = [d for d in st.findings(codes) if d.path == path]
+    run.unfixed = [d for d in st.findings(codes) if d.path == path and finding_key(d, st.text) in given_up]
+    run.left = [d for d in st.findings(codes) if d.path == path and finding_key(d, st.text) not in given_up]
     run.checks = checker.checks
     return run
+
+
+BATCH_MIN = 4  # dead features from which fix_file revives them all at once
+
+
+def _revive_all(checker: Checker, st: State, path: str, run: FixRun) -> State:
+    """Every dead feature's first fix (a set of constraints to remove: SAT questions on the
+    model's selector solver, no re-check each) applied at once and checked once.  Sound: in a
+    model that has products, removing constraints only adds products, so every feature revived
+    alone stays revived, and no dead or false-optional feature, redundant or always-false
+    constraint can appear; the check confirms it (else nothing is applied here and the findings
+    are fixed one by one)."""
+    from ..analysis.fixes import correction_sets, source_text
+    dead = [d for d in st.findings((DEAD,)) if d.path == path]
+    if len(dead) < BATCH_MIN or st.derived or st.result.model.format not in FORMATS:
+        return st
+    enc = st.analysis.encoding
+    chosen: dict[int, tuple[list, list[str]]] = {}   # id(first element) -> (elements, features)
+    for d in dead:
+        if checker.expired():
+            return st
+        name = (d.data or {}).get("feature", "")
+        f = enc.feature_by_name(name)
+        if f is None:
+            continue
+        sets = correction_sets(st.analysis, [enc.var_of_feature[f]], path, limit=1, deadline=checker.deadline)
+        if not sets:
+            continue
+        elems = sets[0]
+        key = tuple(sorted(id(e) for e in elems))
+        chosen.setdefault(key, (elems, []))[1].append(name)
+    if not chosen:
+        return st
+    removed = {id(e): e for elems, _ in chosen.values() for e in elems}
+    spans = [e.span for e in removed.values()]
+    new = _remove_all(st.text, st.result.model.format, spans)
+    if new is None:
+        return st
+    names = [source_text(st.text, sp) for sp in spans]
+    after = checker.removal_state(st, Step(new, _constraints_phrase(names), "remove", tuple(names), False,
+                                           tuple(spans)))
+    if after is None or not after.complete or (after.keys - st.keys) or any(
+            after.keys[(DEAD, n)] for _, feats in chosen.values() for n in feats):
+        return st
+    for elems, feats in chosen.values():
+        phrase = _constraints_phrase([source_text(st.text, e.span) for e in elems])
+        run.applied.append(((DEAD, feats[0]), f"{phrase[0].upper()}{phrase[1:]} (makes {_some(sorted(feats))} not dead)"))
+    return after
 
 
 def compute_fixes(path: str, sources: dict, keys: Optional[list], budget: float) -> FixReport:
