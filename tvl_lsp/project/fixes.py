@@ -132,7 +132,7 @@ class Checker:
         if shared:
             from . import models
             res, analysis = models.load(path, text, read)
-        else:
+        if not shared or res.model.path != path:  # (cached under another spelling of the path)
             from ..analysis.engine import ModelAnalysis
             from ..analysis.formats import parse_any_model
             res = parse_any_model(text, path, read_file=read)
