@@ -330,3 +330,17 @@ def test_many_dead_features_are_revived_at_once(tmp_path):
     assert "X6 -> X7;" in run.text and "Core -> !" not in run.text
     assert sorted(t for _, t in run.applied)[0] == "Remove the constraint `Core -> !X0;` (makes X0 not dead)"
     assert run.checks <= 3  # the text, the batch: not one check per feature
+
+
+@pytest.mark.parametrize("nl", ["\n", "\r\n"])
+def test_uvl_mandatory_with_unicode_names_comments_and_crlf(tmp_path, nl):
+    text = nl.join(["features", '\t"Roboter ü"', "\t\toptional // what it may have", '\t\t\t"Kamera ö" {vendor "Ω"}',
+                    "\t\t\t\toptional", "\t\t\t\t\tZoom", "\t\t\tLidar", "constraints", '\t"Roboter ü" => "Kamera ö"']) + nl
+    p = tmp_path / "u.uvl"
+    p.write_bytes(text.encode())
+    check_fixes(str(p), text)
+    r = fixes_for(str(p), text)
+    [first, _] = r.fixes[("false-optional", "Kamera ö", "Roboter ü")]
+    new = apply_edits(text, first.edits)
+    assert new == nl.join(["features", '\t"Roboter ü"', "\t\tmandatory", '\t\t\t"Kamera ö" {vendor "Ω"}',
+                           "\t\t\t\toptional", "\t\t\t\t\tZoom", "\t\toptional // what it may have", "\t\t\tLidar"]) + nl

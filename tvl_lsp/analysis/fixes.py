@@ -364,7 +364,7 @@ def _uvl_mandatory(text: str, parent: M.Feature, feature: M.Feature) -> Optional
     kw = _group_keyword_line(g)
     s = feature.name_span.start.line
     e = max(s, feature.span.end.line)
-    if not (0 <= kw < s <= e < len(lines)) or _body(lines[kw]).strip() != "optional":
+    if not (0 <= kw < s <= e < len(lines)) or _body(lines[kw]).split("//")[0].strip() != "optional":
         return None
     sub = list(lines[s:e + 1])
     if not sub[-1].endswith(("\n", "\r")):
