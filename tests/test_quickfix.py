@@ -305,6 +305,10 @@ def test_check_fix_never_writes_a_changed_or_linked_file(tmp_path):
     link.symlink_to(target)
     assert _write(str(link), "fixed", "old") is not None
     assert target.read_text() == "old"
+    bad = tmp_path / "latin1.tvl"
+    bad.write_bytes(b"root A { // caf\xe9\n}\n")
+    assert "UTF-8" in _write(str(bad), "fixed", "root A { // caf\ufffd\n}\n")
+    assert bad.read_bytes() == b"root A { // caf\xe9\n}\n"
 
 
 def test_unified_diff_marks_a_missing_final_newline():

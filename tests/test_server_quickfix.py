@@ -4,6 +4,7 @@ removes the finding."""
 
 from __future__ import annotations
 
+import asyncio
 import shutil
 
 import pytest
@@ -47,13 +48,22 @@ def _change(client, uri: str, text: str, version: int) -> None:
         content_changes=[types.TextDocumentContentChangeWholeDocument(text=text)]))
 
 
-async def _quickfixes(client, uri, diag, only=True):
-    acts = await client.text_document_code_action_async(types.CodeActionParams(
-        text_document=types.TextDocumentIdentifier(uri=uri), range=diag.range,
-        context=types.CodeActionContext(diagnostics=[diag],
-                                        only=[types.CodeActionKind.QuickFix] if only else None)))
-    return [a for a in acts or [] if isinstance(a, types.CodeAction) and a.kind == types.CodeActionKind.QuickFix
-            and a.edit is not None]
+async def _quickfixes(client, uri, diag, only=True, timeout=30.0):
+    """The quick fixes at the diagnostic; asked again, as an editor does when the cursor moves,
+    until some come (a request waits a bounded time for fixes being checked: under load the
+    first may come back without them)."""
+    loop = asyncio.get_running_loop()
+    end = loop.time() + timeout
+    while True:
+        acts = await client.text_document_code_action_async(types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri=uri), range=diag.range,
+            context=types.CodeActionContext(diagnostics=[diag],
+                                            only=[types.CodeActionKind.QuickFix] if only else None)))
+        out = [a for a in acts or [] if isinstance(a, types.CodeAction) and a.kind == types.CodeActionKind.QuickFix
+               and a.edit is not None]
+        if out or loop.time() > end:
+            return out
+        await asyncio.sleep(0.2)
 
 
 def _edits(action, uri):

@@ -39,51 +39,23 @@ def _display(path: str) -> str:
 
 
 def _write(path: str, text: str, expected: str) -> Optional[str]:
-    """Write ``text`` over ``path`` if the file still holds ``expected``; None, or why not."""
-    from ..base.files import read_text_or_none
-    if read_text_or_none(path) != expected:
+    """Write ``text`` over ``path`` (the project's safe writer: atomic, never through a link, the
+    file's permissions kept) if the file still holds ``expected``; None, or why not."""
+    from ..base.files import read_bytes
+    from ..base.safewrite import write_file
+    try:
+        raw = read_bytes(path)
+        now = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        return "it is not valid UTF-8 (rewriting it would replace the bytes that are not)"
+    except (OSError, ValueError) as exc:
+        return f"it cannot be read again ({exc})"
+    if now != expected:
         return "the file changed while it was being fixed"
     try:
-        from ..base import safewrite  # (the project's safe writer, #28)
-    except ImportError:
-        safewrite = None
-    if safewrite is not None:
-        try:
-            safewrite.write_file(path, text)
-        except OSError as exc:
-            return str(exc)
-        return None
-    return _atomic_write(path, text)
-
-
-def _atomic_write(path: str, text: str) -> Optional[str]:
-    """A new file beside ``path`` renamed over it: atomic, never through a link."""
-    import tempfile
-    if os.path.islink(path) or not os.path.isfile(path):
-        return "it is not a regular file (a link or a special file is never written through)"
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".tvl-lsp-", suffix=".tmp", dir=folder)
-    try:
-        data = text.encode("utf-8", "surrogatepass")
-        view = memoryview(data)
-        while view:
-            view = view[os.write(fd, view):]
-        os.fsync(fd)
-        os.close(fd)
-        fd = -1
-        os.chmod(tmp, os.stat(path).st_mode & 0o7777)
-        os.replace(tmp, path)
-        tmp = ""
+        write_file(path, text)
     except OSError as exc:
-        return f"cannot write it: {exc.strerror or exc}"
-    finally:
-        if fd >= 0:
-            os.close(fd)
-        if tmp:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
+        return str(exc)
     return None
 
 
@@ -141,16 +113,9 @@ def run(paths: list[str], codes: set[str], apply: bool, budget: Optional[float],
 
 
 def _write_report(path: str, text: str) -> Optional[str]:
+    from ..base.safewrite import write_output
     try:
-        from ..base import safewrite
-    except ImportError:
-        safewrite = None
-    try:
-        if safewrite is not None:
-            safewrite.write_output(path, text)
-        else:
-            with open(path, "w", encoding="utf-8", newline="") as fh:
-                fh.write(text)
+        write_output(path, text)
     except OSError as exc:
         return str(exc)
     return None

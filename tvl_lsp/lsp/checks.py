@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Callable, Optional, Sequence
 
 from ..base.diagnostics import Diagnostic
+from ..base.files import read_text_or_none
 
 log = logging.getLogger("tvl_lsp.server")
 
@@ -127,11 +128,9 @@ class SnapshotReader:
         p = str(Path(path))
         if p in self.texts:
             return self.texts[p]
-        try:
-            with open(p, encoding="utf-8", errors="replace") as fh:
-                return fh.read()
-        except OSError:
-            return None
+        # regular files within the size cap only: a FIFO named *.launch in the workspace blocked
+        # every check, a link to /dev/zero was read without bound (issue #28)
+        return read_text_or_none(p)
 
 
 _LAST_EPOCH: list = [None]

@@ -15,6 +15,7 @@ import os
 from pathlib import Path
 from typing import Any, Callable, Optional
 
+from ..base.files import read_text_or_none
 from ..base.text import LineIndex
 from . import checks
 from .checks import file_kind
@@ -84,10 +85,8 @@ class DocumentStore:
         hit = self.disk_cache.get(path)
         if hit and hit[0] == st.st_mtime_ns:
             return hit[1]
-        try:
-            with open(path, encoding="utf-8", errors="replace") as fh:
-                text = fh.read()
-        except OSError:
+        text = read_text_or_none(path)  # regular files within the size cap only (never a FIFO)
+        if text is None:
             return None
         if len(self.disk_cache) > 2000:
             self.disk_cache.clear()
@@ -102,11 +101,7 @@ class DocumentStore:
             p = str(Path(path))
             if p in texts:
                 return texts[p]
-            try:
-                with open(p, encoding="utf-8", errors="replace") as fh:
-                    return fh.read()
-            except OSError:
-                return None
+            return read_text_or_none(p)  # regular files within the size cap only
         return read
 
     def index_of(self, path: str) -> Optional[LineIndex]:

@@ -190,24 +190,26 @@ class CNFCounter:
             try:
                 small = self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES
                 tiny = self.nvars <= INPROCESS_BUDGETED_VARS and len(self.clauses) <= 10 * INPROCESS_BUDGETED_VARS
-                if tiny or (timeout is None and cancel is None and (self.inprocess or small)):
+                from .d4 import inprocess_ok
+                if (tiny or (timeout is None and cancel is None and (self.inprocess or small))) and inprocess_ok(tiny):
                     from .d4 import compile_inprocess
                     text, n = compile_inprocess(self.nvars, self.clauses, self.d4_options,
-                                                interruptible=self.inprocess)
+                                                interruptible=self.inprocess, tiny=tiny)
                     DISK.put(self.key, text, n)
-                else:
+                else:  # (under a memory limit always here: d4 sizes itself to its own limits)
                     from .d4 import compile_cnf
+                    from ...base.files import read_text
                     tmp = DISK.tmp_path(self.key)
                     try:
                         rep = compile_cnf(self.nvars, self.clauses, tmp, timeout=timeout, cancel=cancel,
                                           progress=progress, options=self.d4_options)
                         text = None
                         n = rep["count"]
-                        if DISK.adopt(self.key, tmp, n) is None:
-                            with open(tmp) as fh:  # no disk cache: keep it in memory
-                                text = fh.read()
+                        digest = tuple(rep["nnf"]) if isinstance(rep.get("nnf"), list) else None
+                        if DISK.adopt(self.key, tmp, n, digest) is None:
+                            text = read_text(tmp, C.NNF_MAX_BYTES)  # no disk cache: keep it in memory
                     finally:
-                        if os.path.exists(tmp):
+                        if os.path.lexists(tmp):
                             try:
                                 os.unlink(tmp)
                             except OSError:
@@ -218,9 +220,11 @@ class CNFCounter:
             except EngineFailed as e:
                 _FAILED[self.key] = (str(e), None)
                 raise
-            except (ImportError, OSError, RuntimeError) as e:
-                _FAILED[self.key] = (f"d4 failed: {type(e).__name__}: {e}", None)
-                raise EngineFailed(_FAILED[self.key][0]) from e
+            except (ImportError, OSError, RuntimeError, MemoryError) as e:
+                from ...base.safewrite import reason
+                why = reason(e) if isinstance(e, OSError) else f"{type(e).__name__}: {e}"
+                _FAILED[self.key] = (f"d4 failed: {why}", None)
+                raise EngineFailed(_FAILED[self.key][0]) from None
             if text is not None and DISK.path(self.key) is None:
                 self._load(text)
             return text, n, "d4"

@@ -127,13 +127,20 @@ def main(argv: list[str]) -> int:
     if not files:
         print("tvl-lsp generate: no product matches", file=sys.stderr)
         return 1
-    for f in files:
-        if args.dry_run:
+    if args.dry_run:
+        for f in files:
             print(f"==> {f.path}")
             print(f.text)
-            continue
-        os.makedirs(os.path.dirname(f.path), exist_ok=True)
-        with open(f.path, "w", encoding="utf-8") as fh:
-            fh.write(f.text)
-        print(f.path)
+        return 1 if partial is not None else 0
+    from ...project.generate import write_configurations
+    try:  # atomic, never through a link, inside the workspace (tvl_lsp.base.safewrite)
+        written = write_configurations(files, [root])
+    except OSError as ex:
+        from ...base.safewrite import WriteError, summary
+        for p in getattr(ex, "written", []):
+            print(p)
+        print(f"tvl-lsp generate: {summary(ex, len(files)) if isinstance(ex, WriteError) else ex}", file=sys.stderr)
+        return 2
+    for p in written:
+        print(p)
     return 1 if partial is not None else 0

@@ -11,6 +11,10 @@ folder (``--strict-packages``: launch's "package not found" error instead).  Pyt
 files are never executed: ``launch`` stops at an include of one.  The dialect of a
 ``.launch.xml`` file is detected (``--dialect`` forces it).
 
+ROS 1: ``$(find pkg)`` finds what roslaunch finds, the packages of the workspace (the one
+``--check`` uses for FILE, unless ``--workspace`` names it) and of ``ROS_PACKAGE_PATH``, with
+roslaunch's precedence (:func:`tvl_lsp.launch.packages.ros_packages`).
+
 ROS 1 with --json: "params" maps each parameter to the value roslaunch sets (typed as roslaunch
 types it: numbers, booleans, strings, YAML lists and maps), except those in "param_sources"
 (textfile / binfile / command), given by path or command line.
@@ -71,6 +75,9 @@ def main(argv: list[str]) -> int:
         dialect = dialect_of(path).dialect
     if dialect == "ros2":
         return _ros2(path, args, workspace, as_json, strict)
+    if workspace is None:  # the workspace --check finds for this file: one package resolver for both
+        from ...project.workspace import find_workspace_root
+        workspace = find_workspace_root(path)
     res = load_launch(path, args, workspace_root=workspace)
     if as_json:
         out = {"file": path, "args": args, "nodes": res.nodes,
@@ -100,7 +107,8 @@ def main(argv: list[str]) -> int:
 
             def show(incs, depth):
                 for inc in incs:
-                    state = "" if inc["followed"] else "  (not followed: outside the workspace)"
+                    state = "" if inc["followed"] else ("  (not read: outside the workspace)" if inc.get("outside")
+                                                        else "  (not followed)")
                     print("  " + "  " * depth + f"{inc['file']} [ns {inc['namespace']}]{state}")
                     show(inc["includes"], depth + 1)
             show(res.includes, 0)
@@ -135,7 +143,8 @@ def _ros2(path: str, args: dict, workspace, as_json: bool, strict: bool) -> int:
 
         def show(incs, depth):
             for inc in incs:
-                state = "" if inc["followed"] else "  (not followed)"
+                state = "" if inc["followed"] else ("  (not read: outside the workspace)" if inc.get("outside")
+                                                    else "  (not followed)")
                 print("  " + "  " * depth + f"{inc['file']}{state}")
                 show(inc["includes"], depth + 1)
         show(res.includes, 0)

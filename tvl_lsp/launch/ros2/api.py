@@ -8,6 +8,7 @@ from typing import Iterable, Mapping, Optional
 
 from ...base.formula import FALSE, TRUE, Formula, Var, conj, neg
 from ...base.diagnostics import Diagnostic, Severity
+from ...base.files import model_workspace
 from ..model import ArgDecl, LaunchAnalysis
 from . import actions as A
 from . import subst as S
@@ -191,7 +192,7 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
     path = os.path.abspath(path)
     env = os.environ if env is None else env
     if workspace_root is None and packages is None:
-        workspace_root = guess_ament_root(path)
+        workspace_root = guess_ament_root(path) or model_workspace(path)
     w = Walker(concrete=False, packages=_packages(workspace_root, packages), env=env, read_file=read_file,
                workspace_root=workspace_root, installed=installed_packages(env))
     w.root_path = path
@@ -331,14 +332,14 @@ def load_launch2(path: str, args: Mapping[str, str], workspace_root: Optional[st
     path = os.path.abspath(path)
     env = os.environ if env is None else env
     if workspace_root is None and packages is None:
-        workspace_root = guess_ament_root(path)
+        workspace_root = guess_ament_root(path) or model_workspace(path)
     w = Walker(concrete=True, packages=_packages(workspace_root, packages), env=env, read_file=read_file,
                workspace_root=workspace_root, stub_packages=stub_packages, installed=installed_packages(env))
     res = Launch2Result(path, dict(args), {}, {}, [], [], [], [])
     w.root_path = path
     w.timers = []
     if text is None:
-        text = w.read(path)
+        text = w.read(path, confined=False)  # (the file named on the command line, wherever it is)
     sc = Scope()
     try:
         if text is None:
@@ -391,7 +392,8 @@ def load_launch2(path: str, args: Mapping[str, str], workspace_root: Optional[st
 
     def inc_tree(incs) -> list:
         return [{"file": i.file, "followed": i.followed, "source": i.element.path,
-                 "line": i.element.span.start.line + 1, "includes": inc_tree(i.children)}
+                 "line": i.element.span.start.line + 1, "includes": inc_tree(i.children),
+                 **({"outside": True} if i.outside else {})}
                 for i in incs if i.condition == TRUE]
     res.includes = inc_tree(w.includes)
     res.warnings = list(w.warnings) + [f.message for f in w.facts if f.condition == TRUE and f.severity != E

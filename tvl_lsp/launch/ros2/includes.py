@@ -8,7 +8,8 @@ from typing import Optional
 
 from ...base.formula import Formula, conj, disj, neg
 from ...base.text import Span
-from ..model import Element, IncludeFact
+from ..model import Element, IncludeFact, outside_message, outside_reach
+from .values import INCLUDE_OUTSIDE
 from . import actions as A
 from . import subst as S
 from .values import (E, I, W, INCLUDE_CYCLE, INCLUDE_INVALID, INCLUDE_NOT_FOUND, INCLUDE_TOO_DEEP, Leak, MAX_INCLUDE_DEPTH,
@@ -43,6 +44,11 @@ class IncludeRules:
                 self.fact(INCLUDE_TOO_DEEP, f"includes are nested more than {MAX_INCLUDE_DEPTH} deep; not followed",
                           el.path, span, c, W)
                 el.unresolved = True
+                continue
+            if outside_reach(path, self.reach):  # one rule in every command (docs/architecture.md)
+                inc.outside = True
+                el.unresolved = True
+                self.fact(INCLUDE_OUTSIDE, outside_message(shown(f), path), el.path, span, c, W)
                 continue
             u = self.unit(path)
             if u is None and not self.concrete:
@@ -130,8 +136,8 @@ class IncludeRules:
                 if n in ("ros_namespace",) or n.startswith("anon"):
                     continue
                 old = before.get(n, before_all.get(n, []))
-                if sorted(map(repr, after)) == sorted(map(repr, old)):
-                    continue
+                if len(after) == len(old) and set(after) == set(old):
+                    continue  # (formulas compare by hash: their repr is exponential in their sharing)
                 span = self.leak_span(a, emap, el, n)
                 sc.leaks[n] = Leak(n, el, span[1], span[0], old, after)
 

@@ -12,7 +12,8 @@ from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
 from ..model import Element
 from . import actions as A
 from . import subst as S
-from .values import (W, DUPLICATE_NODE, FILE_NOT_FOUND, INVALID_NAMESPACE, INVALID_NODE_NAME, INVALID_VALUE, MAX_CASES,
+from . import coerce as C
+from .values import (W, PARAM_INVALID, DUPLICATE_NODE, FILE_NOT_FOUND, INVALID_NAMESPACE, INVALID_NODE_NAME, INVALID_VALUE, MAX_CASES,
                      Node2Fact, PARAM_FILE_NOT_FOUND, SUBST_SYNTAX, SUBST_UNKNOWN, Scope, _yaml_value, make_absolute,
                      opaque, prefix_namespace, present, shown, typed_bool, validate_namespace, validate_node_name)
 
@@ -20,6 +21,9 @@ from ..model import RemapCase
 
 PAIRWISE_DUPLICATES = 8  # up to this many earlier nodes of a name: one duplicate-node fact per pair
 MAX_RELATED = 64  # related locations listed for a duplicate node
+
+
+_FAILED = object()  # a parameter value launch fails to type
 
 
 class NodeRules:
@@ -34,12 +38,29 @@ class NodeRules:
         for kn, kv in a.env:
             self.ev(kn, sc, cond, el)
             self.ev(kv, sc, cond, el)
+        self.typed_respawn(a, el, sc, cond)
         if self.concrete and cond == TRUE:
             n = names[0][1] if names else ""
             self.exec_counter = getattr(self, "exec_counter", 0) + 1
             base = n or (os.path.basename(cmd[0][1][0]) if cmd and cmd[0][1] else "")
             self.executables.append({"name": shown(base), "process_name": f"{shown(base)}-{self.exec_counter}",
                                      "cmd": [shown(x) for x in (cmd[0][1] if cmd else [])], "source": el.path})
+
+    def typed_respawn(self, a, el: Element, sc: Scope, cond: Formula) -> None:
+        """ExecuteLocal.prepare: ``respawn`` substituted and typed as a bool (launch fails on
+        'abc' or '[' there)."""
+        if a.respawn is None:
+            return
+        for c, v in self.ev(a.respawn, sc, cond, el):
+            if opaque(v):
+                continue
+            try:
+                C.perform_typed(v, bool)
+            except ValueError as ex:
+                self.fact(INVALID_VALUE, f"respawn is '{v}', which ros2 launch cannot read as a boolean: {ex}",
+                          el.path, a.respawn.span() or el.tag_span, c, launch=("ValueError", str(ex)))
+            except Exception:
+                continue
 
     def cmd(self, cmd: list, v: A.Value, sc: Scope, cond: Formula, el: Element) -> list:
         """Cases of the command line (a list of words)."""
@@ -125,6 +146,7 @@ class NodeRules:
             self.ev(a.args, sc, g, el)
         if a.ros_args is not None:
             self.ev(a.ros_args, sc, g, el)
+        self.typed_respawn(a, el, sc, g)
         kind = a.tag
         for cp, p, x in okp:
             for cn, n in ok_names:
@@ -312,18 +334,54 @@ class NodeRules:
             v = p.value
             if isinstance(v, A.Value):
                 # parse_if_substitutions: plain text stays the string YAML gave; a value with
-                # substitutions is typed by YAML once substituted
+                # substitutions is typed when the node runs (ParameterValue.evaluate:
+                # coerce_to_type(value, type), can_be_str=False): YAML that fails, a map, a mixed
+                # list, null, int('abc') ... make ros2 launch fail there
                 plain = S.is_text(v.parts)
                 for cv, s in self.ev(v, sc, cn, pel):
-                    out[key] = (cv, s if p.type == "str" or plain else _yaml_value(s))
+                    if plain or opaque(s):
+                        out[key] = (cv, s if p.type == "str" or plain else _yaml_value(s))
+                        continue
+                    typed = self.typed_param(key, s, p.dtype, pel, v, cv)
+                    if typed is not _FAILED:
+                        out[key] = (cv, typed)
             elif isinstance(v, list):
-                vals = []
+                # perform_typed_substitution of a list: its items with substitutions typed one by one
+                item = p.dtype.item if isinstance(p.dtype, C.ListOf) else None
+                vals, failed = [], False
                 for x in v:
                     if isinstance(x, A.Value):
                         cs = self.ev(x, sc, cn, pel)
-                        vals.append(cs[0][1] if cs else "")
+                        s = cs[0][1] if cs else ""
+                        if S.is_text(x.parts) or opaque(s):
+                            vals.append(s)
+                            continue
+                        typed = self.typed_param(key, s, item, pel, x, cn)
+                        failed = failed or typed is _FAILED
+                        vals.append(typed)
                     else:
                         vals.append(x)
-                out[key] = (cn, vals)
+                if not failed and any(isinstance(x, A.Value) and not S.is_text(x.parts) for x in v) and \
+                        not C.is_instance_of(vals, p.dtype):
+                    msg = "The output list is not uniform" if item is None else \
+                        f"The output list does not match the expected type Got value='{vals}', expected type {item}."
+                    self.fact(PARAM_INVALID, f"the value of parameter '{key}': {msg}", pel.path,
+                              v[0].span() if isinstance(v[0], A.Value) else pel.tag_span, cn, launch=("ValueError", msg))
+                    failed = True
+                if not failed:
+                    out[key] = (cn, vals)
             else:
                 out[key] = (cn, v)
+
+    def typed_param(self, key: str, s: str, data_type, pel: Element, v: A.Value, c: Formula):
+        """A ``<param value>`` with substitutions, once substituted, typed as launch types it
+        (:func:`coerce.perform_typed`); its error is a fact (and _FAILED)."""
+        try:
+            return C.perform_typed(s, data_type)
+        except ValueError as ex:
+            self.fact(PARAM_INVALID, f"the value of parameter '{key}' is '{s}' once substituted, which ros2 launch "
+                      f"cannot type ({'as YAML' if data_type is None else C.type_text(data_type)}): {ex}",
+                      pel.path, v.span() or pel.tag_span, c, launch=("ValueError", str(ex)))
+            return _FAILED
+        except Exception:  # beyond the YAML bounds: unknown, not an error
+            return s

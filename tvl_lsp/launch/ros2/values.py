@@ -13,7 +13,7 @@ from typing import Mapping, Optional
 import yaml
 from ...base import yamlsafe
 
-from ...base.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, disj
+from ...base.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, disj, forall_unknowns
 from ...base.diagnostics import Severity, register
 from ...base.text import Span
 from ..model import Element, ErrorFact, NodeFact
@@ -45,12 +45,14 @@ ENV_NOT_SET = _reg("env-not-set", E, "A $(env X) where X is not set in tvl-lsp's
 PACKAGE_NOT_FOUND = _reg("package-not-found", E, "A $(find pkg) of a package roslaunch cannot find.")
 CONDITION_NOT_ANALYSABLE = _reg("condition-not-analysable", I, "A condition tvl-lsp cannot translate to a formula.")
 INCLUDE_NOT_FOUND = _reg("include-not-found", E, "An included file does not exist.")
+INCLUDE_OUTSIDE = _reg("include-outside-workspace", W, "An included file outside the workspace: it is not read.")
 INCLUDE_INVALID = _reg("include-invalid", E, "An included file is not a valid launch file.")
 INCLUDE_CYCLE = _reg("include-cycle", E, "Files include each other in a cycle.")
 INCLUDE_TOO_DEEP = _reg("include-too-deep", W, "Includes nested too deeply to follow.")
 NO_LAUNCH_ROOT = _reg("no-launch-root", E, "The file has no single <launch> element.")
 EXTENSION_TAG = _reg("extension-tag", I, "A tag a launch extension adds (tvl-lsp does not model what it does).")
 FILE_NOT_FOUND = _reg("file-not-found", E, "A file a tag loads does not exist.")
+PARAM_INVALID = _reg("invalid-param", E, "A <param> or <rosparam> roslaunch cannot load.")
 BUDGET = _reg("launch-analysis-budget", W, "The launch file is too large to analyse completely.")
 # ROS 2 only
 INVALID_CHOICE = _reg("invalid-choice", E, "An <arg> value that is not one of its <choice> values (ROS 2).")
@@ -186,8 +188,12 @@ def merge_facts(facts: list) -> list:
             for r in f.related:
                 if r not in g.related:
                     g.related.append(r)
-    # the cross-check asks the SAT service about each fact anyway: here only the cheap cases
-    return [f for f in out.values() if satisfiable(f.condition, limit=8) is not False]
+    # an error is reported only where it holds whatever the unknowns are (an if/unless value
+    # tvl-lsp cannot compute is never the cause of an error); the cross-check asks the SAT
+    # service about each fact anyway: here only the cheap cases
+    for f in out.values():
+        f.condition = forall_unknowns(f.condition)
+    return [f for f in out.values() if f.condition != FALSE and satisfiable(f.condition, limit=8) is not False]
 
 
 class Stop(Exception):

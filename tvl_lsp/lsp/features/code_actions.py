@@ -11,7 +11,7 @@ from ...base.diagnostics import Fix, TextEdit
 from ..convert import fix_to_edit, from_lsp_range, spans_overlap, to_lsp_diagnostic
 from ...project.facts import MODEL_KINDS
 from . import quickfix
-from .commands import GENERATE, can_create, creation_edit, plan
+from .commands import GENERATE, can_create, check_targets, creation_edit, plan
 
 
 def _kind(k) -> str:
@@ -111,5 +111,6 @@ def register(ls) -> None:
         opts = data.get("tvl-lsp.generate")
         if isinstance(opts, dict) and action.edit is None:
             files, out_dir, truncated = await plan(ls, opts)
+            check_targets(ls, files)  # (no link, no FIFO among them: the editor writes them)
             action.edit = creation_edit(files)
         return action
