@@ -260,7 +260,7 @@ def test_check_fix_dry_run_prints_a_patch_and_writes_nothing(capsys, monkeypatch
     (ws / "fix.patch").write_text(out)
     import shutil
     if shutil.which("git") is None:
-        pytest.skip("git is not installed (the patch is checked with git apply)")
+        pytest.skip("git is not installed (the patch is checked with git apply): apt-get install git")
     r = subprocess.run(["git", "apply", "--unsafe-paths", "fix.patch"], cwd=ws, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     code, out, err = cli(capsys, monkeypatch, ws, "--fix", "dead.uvl", "false_optional.tvl", "void.tvl")

@@ -599,6 +599,19 @@ def _fix(path: str, st0: State, o: Offer, preferred: bool) -> Fix:
 
 # ------------------------------------------------------------------ the entry points
 
+def _guarded(search: "_Search", st: State, d: Diagnostic) -> list[Offer]:
+    """``search.offers``; a failure (a bug) costs that finding its fixes, not the others' (a
+    MemoryError is the caller's budget and goes up)."""
+    try:
+        return search.offers(st, d)
+    except MemoryError:
+        raise
+    except Exception:  # noqa: BLE001
+        import logging
+        logging.getLogger("tvl_lsp.fixes").exception("quick fixes of %s failed", d.code)
+        return []
+
+
 @dataclass
 class FixReport:
     fixes: dict = field(default_factory=dict)    # finding key -> [Fix] (checked; [] = none found)
@@ -647,7 +660,7 @@ def fixes_for(path: str, text: str, read_file: Optional[ReadFile] = None, keys: 
         if checker.expired():
             report.unreached.append(k)
             continue
-        offers = search.offers(st0, d)
+        offers = _guarded(search, st0, d)
         first_clean = next((i for i, o in enumerate(offers) if o.clean), None)
         report.fixes[k] = [_fix(path, st0, o, i == first_clean) for i, o in enumerate(offers)]
     report.checks = checker.checks
@@ -704,7 +717,7 @@ def fix_file(path: str, text: str, read_file: Optional[ReadFile] = None, codes: 
         if checker.expired():
             run.unreached = True
             break
-        offers = [o for o in search.offers(st, d) if not o.new_errors]
+        offers = [o for o in _guarded(search, st, d) if not o.new_errors]
         if not offers:
             given_up.add(k)
             continue

@@ -133,7 +133,14 @@ def main(argv: Optional[list[str]] = None) -> int:
         from .. import fix
         codes = (set(ANOMALY_CODES) & select if select else set(ANOMALY_CODES)) - ignore
         try:
-            made, failed = fix.run(paths, codes, ns.apply, ns.fix_budget, ns.quiet, None if ns.apply else ns.output)
+            from ...project.budget import cap_memory
+            with cap_memory(CHECK_MEMORY_BYTES if ns.memory is None else ns.memory * 1024 ** 2):
+                made, failed = fix.run(paths, codes, ns.apply, ns.fix_budget, ns.quiet,
+                                       None if ns.apply else ns.output)
+        except MemoryError:
+            print("tvl-lsp --check --fix: error: the fixes needed more memory than --memory allows",
+                  file=sys.stderr)
+            return 2
         except BrokenPipeError:
             raise
         except Exception:
