@@ -361,10 +361,11 @@ class _Search:
         self.path = path
         self._memo: dict[tuple, list[Offer]] = {}
 
-    def offers(self, st: State, d: Diagnostic, depth: int = DEPTH) -> list[Offer]:
-        """Checked fixes of finding ``d`` of ``st``: the clean ones, else those that add no error."""
+    def offers(self, st: State, d: Diagnostic, depth: int = DEPTH, first: bool = False) -> list[Offer]:
+        """Checked fixes of finding ``d`` of ``st``: the clean ones, else those that add no error
+        (``first``: stop at the first clean one, in the order of preference)."""
         target = finding_key(d, st.text if d.path == self.path else None)
-        memo = (_sha(st.text), target, depth)
+        memo = (_sha(st.text), target, depth, first)
         if memo in self._memo:
             return self._memo[memo]
         if st.derived:  # (its analysis is the previous text's: candidates need this text's own)
@@ -376,6 +377,9 @@ class _Search:
         seen: set[str] = set()
         expected = st.keys - Counter([target])
         steps = candidate_steps(st, self.path, d, self.checker.deadline)[:MAX_OFFERS * 2]
+        # the preferred first: a feature made mandatory (the products stay the same), then the
+        # smallest change; else in the order of the explanation
+        steps.sort(key=lambda x: (x.kind != "mandatory", max(1, len(x.constraints))))
         if st.keys[(VOID,)]:
             # a void model reports nothing else: what the model has without the constraints of
             # its conflict was hidden by it, not made by the fix (what the conflict's other
@@ -394,10 +398,10 @@ class _Search:
                 continue
             seen.add(h)
             out.append(o)
+            if first and o.clean:
+                break
         clean = [o for o in out if o.clean]
         out = clean or [o for o in out if not o.new_errors]
-        # the preferred first: a feature made mandatory (the products stay the same), then the
-        # smallest change; else in the order of the explanation
         out.sort(key=lambda o: (o.steps[0].kind != "mandatory", sum(max(1, len(s.constraints)) for s in o.steps)))
         self._memo[memo] = out
         return out
@@ -443,7 +447,7 @@ class _Search:
             if not news:
                 break
             nd = min(news, key=lambda x: order[x.code])
-            subs = [o for o in self.offers(st, nd, depth - 1) if o.clean]
+            subs = [o for o in self.offers(st, nd, depth - 1, first=True) if o.clean]
             if not subs:
                 break
             steps = steps + subs[0].steps
@@ -599,11 +603,11 @@ def _fix(path: str, st0: State, o: Offer, preferred: bool) -> Fix:
 
 # ------------------------------------------------------------------ the entry points
 
-def _guarded(search: "_Search", st: State, d: Diagnostic) -> list[Offer]:
+def _guarded(search: "_Search", st: State, d: Diagnostic, first: bool = False) -> list[Offer]:
     """``search.offers``; a failure (a bug) costs that finding its fixes, not the others' (a
     MemoryError is the caller's budget and goes up)."""
     try:
-        return search.offers(st, d)
+        return search.offers(st, d, first=first)
     except MemoryError:
         raise
     except Exception:  # noqa: BLE001
@@ -717,7 +721,7 @@ def fix_file(path: str, text: str, read_file: Optional[ReadFile] = None, codes: 
         if checker.expired():
             run.unreached = True
             break
-        offers = [o for o in _guarded(search, st, d) if not o.new_errors]
+        offers = [o for o in _guarded(search, st, d, first=True) if not o.new_errors]
         if not offers:
             given_up.add(k)
             continue
