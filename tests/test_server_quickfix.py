@@ -161,3 +161,52 @@ async def test_only_other_kinds_skips_the_fixes(client: LanguageClient):
     assert not [a for a in acts or [] if getattr(a, "kind", None) == types.CodeActionKind.QuickFix]
     client.text_document_did_close(types.DidCloseTextDocumentParams(
         text_document=types.TextDocumentIdentifier(uri=uri)))
+
+
+def _apply_as_editor(action, uri: str, text: str, version: int):
+    """What an editor does with a code action's edit on its document at ``version``: a
+    versioned edit (``documentChanges``) for another version is refused (None); else the new
+    text."""
+    edit = action.edit
+    if edit.document_changes:
+        [dc] = edit.document_changes
+        if dc.text_document.uri != uri or (dc.text_document.version is not None
+                                           and dc.text_document.version != version):
+            return None
+        return apply_text_edits(text, list(dc.edits))
+    return apply_text_edits(text, list(edit.changes[uri]))
+
+
+async def test_a_fix_for_a_stale_version_is_refused_and_the_current_one_applies(client: LanguageClient):
+    """A fix computed for version 1 names version 1: once the document is at version 2 the
+    editor refuses it; asked again, the fixes name version 2, apply and remove the finding."""
+    name = "dead.tvl"
+    text = (QF / name).read_text()
+    uri = _open(client, name, text, version=1)
+    diags = await diagnostics(client, uri, lambda ds: "dead-feature" in codes(ds))
+    lidar = [d for d in diags if d.code == "dead-feature" and "Lidar" in _at(text, d.range)][0]
+    old = await _quickfixes(client, uri, lidar)
+    assert old
+    assert _apply_as_editor(old[0], uri, text, 1) is not None  # the right version: applies
+    moved = "// a line on top: every position moves\n" + text
+    _change(client, uri, moved, 2)
+    if client.profile == "visual-studio-code":
+        assert _edits(old[0], uri)[1] == 1
+        assert _apply_as_editor(old[0], uri, moved, 2) is None  # stale: refused
+    diags2 = await diagnostics(client, uri, lambda ds: any(
+        d.code == "dead-feature" and d.range.start.line == lidar.range.start.line + 1 for d in ds))
+    lidar2 = [d for d in diags2 if d.code == "dead-feature" and "Lidar" in _at(moved, d.range)][0]
+    new = await _quickfixes(client, uri, lidar2)
+    assert [a.title for a in new] == [a.title for a in old]
+    if client.profile == "visual-studio-code":
+        assert _edits(new[0], uri)[1] == 2
+    fixed = _apply_as_editor(new[0], uri, moved, 2)
+    assert fixed is not None and fixed.startswith("// a line on top")
+    _change(client, uri, fixed, 3)
+    after = await diagnostics(client, uri, lambda ds: not any(
+        d.code == "dead-feature" and "Lidar" in _at(fixed, d.range) for d in ds))
+    assert not any(d.code == "dead-feature" and "Lidar" in _at(fixed, d.range) for d in after)
+    assert not [d for d in after if d.code in ANOMALIES and (d.code, d.message) not in
+                {(x.code, x.message) for x in diags}]
+    client.text_document_did_close(types.DidCloseTextDocumentParams(
+        text_document=types.TextDocumentIdentifier(uri=uri)))
