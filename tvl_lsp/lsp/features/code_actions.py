@@ -27,9 +27,13 @@ def merge_fixes(title: str, fixes: list[Fix]) -> Fix:
     """One fix applying several (edits at the same place are concatenated in order)."""
     merged: dict[tuple, TextEdit] = {}
     order = []
+    seen = set()
     for f in fixes:
         for e in f.edits:
             k = (e.path, e.span)
+            if (k, e.new_text) in seen:
+                continue  # the same edit in several fixes (e.g. an import a Python file needs once)
+            seen.add((k, e.new_text))
             if k in merged:
                 merged[k] = TextEdit(e.path, e.span, merged[k].new_text + e.new_text)
             else:
@@ -77,7 +81,8 @@ def register(ls) -> None:
                 at = [d for d in res.diagnostics if (not d.path or d.path == doc.path) and spans_overlap(d.span, span)]
                 actions += await quickfix.actions(ls, uri, doc, at)
         if len(all_missing) > 1 and any(spans_overlap(d.span, span) for d in all_missing):
-            fx = merge_fixes(f"Add all {len(all_missing)} missing <arg> tags",
+            what = "DeclareLaunchArgument actions" if doc.path.endswith(".py") else "<arg> tags"
+            fx = merge_fixes(f"Add all {len(all_missing)} missing {what}",
                              [f for d in all_missing for f in d.fixes[:1]])
             diags = [to_lsp_diagnostic(d, doc.index, enc, ls.index_of) for d in all_missing]
             actions.append(types.CodeAction(title=fx.title, kind=types.CodeActionKind.QuickFix,
