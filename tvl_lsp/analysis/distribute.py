@@ -113,9 +113,27 @@ class DistributeMixin:
                 base.extend(c[0])
             else:
                 multi.append(c)
+        if _tautology(base):
+            return []
+        # distributed clause by clause, the tautologies dropped as they appear: a KConfig
+        # export's "A & B1 | A & B2 | !A | !B3" is one clause (!A | B1 | B2 | !B3), not 2^k
         acc = [base]
         for c in multi:
-            acc = [a + b for a in acc for b in c]
-            if len(acc) > limit:
-                return None
+            nxt = []
+            for a in acc:
+                sa = {x for x in a if type(x) is int}
+                for b in c:
+                    if any(type(x) is int and -x in sa for x in b):
+                        continue
+                    nxt.append(a + [x for x in b if x not in sa])
+                    if len(nxt) > limit:
+                        return None
+            acc = nxt
+            if not acc:
+                return []
         return acc
+
+
+def _tautology(clause: list[Lit]) -> bool:
+    ints = {x for x in clause if type(x) is int}
+    return any(-x in ints for x in ints)

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import os
 import random
+import shutil
 import threading
 from collections import OrderedDict
 import time
@@ -54,6 +55,8 @@ PYGANAK_INPROCESS_VARS = 100  # with a budget: bigger CNFs go to a killable chil
 PASSES_KEPT = 16  # passes kept per CNF (each: one count per feature)
 D4_SHARE = 0.75  # of a time budget, the part d4 gets before pyganak takes over
 MIN_FALLBACK_BUDGET = 0.2  # seconds: less is not worth starting pyganak's process
+REDUCE_SHARE = 0.1  # of d4's time budget, the most the optional reductions (backbone...) take
+REDUCTION_TAG = "c tvl-lsp-reduction "
 
 MEMORY = C.MemoryCache(8)
 DISK = C.DiskCache()
@@ -127,16 +130,29 @@ def _lock_for(key: str) -> threading.Lock:
         return lk
 
 
+class _Counted:
+    """The count d4 reported for a reduced CNF, as the circuit :class:`.simplify.LiftedCircuit`
+    lifts (its total only)."""
+
+    def __init__(self, n: int):
+        self.n = n
+
+    def count(self, lits=()) -> int:
+        return self.n
+
+
 class CNFCounter:
     def __init__(self, nvars: int, clauses: Sequence[Sequence[int]], n_features: int,
                  determined: bool = True, label: str = "model", d4_options: Optional[dict] = None,
-                 inprocess: bool = False):
+                 inprocess: bool = False, reduce: bool = True):
         self.nvars = max(nvars, n_features)
         self.clauses = [list(c) for c in clauses]
         self.n_features = n_features
         self.determined = determined
         self.label = label
         self.d4_options = d4_options
+        # the CNF is made smaller (exactly: :mod:`.simplify`) before d4 compiles it
+        self.reduce = reduce and os.environ.get("TVL_LSP_NO_REDUCE", "") in ("", "0")
         # compile in this process whatever the size when there is no budget (the command line:
         # Ctrl-C still works, see d4.compile_inprocess); never in the language server
         self.inprocess = inprocess
@@ -147,7 +163,10 @@ class CNFCounter:
         self.universe = sorted(set(range(1, n_features + 1)) | used)
         # auxiliary variables that occur in no clause double d4's count each
         self.unused_aux = self.nvars - len(self.universe)
-        self.key = C.cnf_key(self.nvars, self.clauses, extra=repr(sorted((d4_options or {}).items())))
+        # (a reduced CNF's circuit is stored apart: the d-DNNF file of the CNF itself stays one
+        # other tools read, e.g. ddnnife)
+        self.key = C.cnf_key(self.nvars, self.clauses, extra=repr(sorted((d4_options or {}).items()))
+                             + (" reduced-1" if self.reduce else ""))
         self.last_engine: Optional[str] = None
         # the last passes: (circuit id, literals) -> (total, counts), most recent last
         self._passes: "OrderedDict[tuple, tuple]" = OrderedDict()
@@ -188,30 +207,7 @@ class CNFCounter:
             if progress:
                 progress(f"compiling {self.label} with d4")
             try:
-                small = self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES
-                tiny = self.nvars <= INPROCESS_BUDGETED_VARS and len(self.clauses) <= 10 * INPROCESS_BUDGETED_VARS
-                if tiny or (timeout is None and cancel is None and (self.inprocess or small)):
-                    from .d4 import compile_inprocess
-                    text, n = compile_inprocess(self.nvars, self.clauses, self.d4_options,
-                                                interruptible=self.inprocess)
-                    DISK.put(self.key, text, n)
-                else:
-                    from .d4 import compile_cnf
-                    tmp = DISK.tmp_path(self.key)
-                    try:
-                        rep = compile_cnf(self.nvars, self.clauses, tmp, timeout=timeout, cancel=cancel,
-                                          progress=progress, options=self.d4_options)
-                        text = None
-                        n = rep["count"]
-                        if DISK.adopt(self.key, tmp, n) is None:
-                            with open(tmp) as fh:  # no disk cache: keep it in memory
-                                text = fh.read()
-                    finally:
-                        if os.path.exists(tmp):
-                            try:
-                                os.unlink(tmp)
-                            except OSError:
-                                pass
+                text, n = self._compile(timeout, cancel, progress)
             except CountTimeout as e:
                 _FAILED[self.key] = (str(e), timeout)
                 raise
@@ -225,9 +221,75 @@ class CNFCounter:
                 self._load(text)
             return text, n, "d4"
 
+    def _compile(self, timeout, cancel, progress) -> tuple[Optional[str], int]:
+        """Compile (the reduced CNF when ``self.reduce``) and store the result on disk: (the
+        stored text when it is not in the disk cache, else None; the count over all variables).
+        The stored text of a reduced CNF is a ``c tvl-lsp-reduction`` line (the way back to the
+        original variables, :class:`.simplify.Reduction`) followed by the reduced CNF's NNF."""
+        t0 = time.monotonic()
+        nvars, clauses, head, red = self.nvars, self.clauses, "", None
+        if self.reduce:
+            from .simplify import reduce_cnf, LiftedCircuit
+            # (auxiliary variables are not eliminated: that keeps the count of the features
+            # only, and the circuit counts every variable -- the same number only when the
+            # caller's ``determined`` is right)
+            red = reduce_cnf(self.nvars, self.clauses, self.n_features, self.universe,
+                             deadline=None if timeout is None else t0 + timeout * REDUCE_SHARE)
+            head = REDUCTION_TAG + red.to_json().decode() + "\n"
+            nvars, clauses = red.k, red.clauses
+            if red.void:
+                nvars, clauses = 0, [[]]
+            if timeout is not None:
+                timeout = max(0.0, timeout - (time.monotonic() - t0))
+
+        def lifted(n: int) -> int:
+            if red is None or red.void:
+                return n
+            return LiftedCircuit(_Counted(n), red, self.universe).count() << self.unused_aux
+
+        small = nvars <= INPROCESS_MAX_VARS and len(clauses) <= INPROCESS_MAX_CLAUSES
+        tiny = nvars <= INPROCESS_BUDGETED_VARS and len(clauses) <= 10 * INPROCESS_BUDGETED_VARS
+        if tiny or (timeout is None and cancel is None and (self.inprocess or small)):
+            from .d4 import compile_inprocess
+            text, n = compile_inprocess(nvars, clauses, self.d4_options, interruptible=self.inprocess)
+            text, n = head + text, lifted(n)
+            DISK.put(self.key, text, n)
+            return text, n
+        from .d4 import compile_cnf
+        tmp = DISK.tmp_path(self.key)
+        try:
+            rep = compile_cnf(nvars, clauses, tmp, timeout=timeout, cancel=cancel,
+                              progress=progress, options=self.d4_options)
+            n = lifted(rep["count"])
+            if head:
+                with open(tmp + ".r", "w") as out, open(tmp) as src:
+                    out.write(head)
+                    shutil.copyfileobj(src, out, 1 << 20)
+                os.replace(tmp + ".r", tmp)
+            if DISK.adopt(self.key, tmp, n) is not None:
+                return None, n
+            with open(tmp) as fh:  # no disk cache: keep it in memory
+                return fh.read(), n
+        finally:
+            for f in (tmp, tmp + ".r"):
+                if os.path.exists(f):
+                    try:
+                        os.unlink(f)
+                    except OSError:
+                        pass
+
     def _load(self, text: str, from_disk: bool = False) -> Optional[Circuit]:
         try:
-            circ = Circuit(text, self.nvars, self.universe)
+            if text.startswith(REDUCTION_TAG):
+                from .simplify import LiftedCircuit, Reduction
+                first, _, body = text.partition("\n")
+                red = Reduction.from_json(first[len(REDUCTION_TAG):].encode(), self.nvars)
+                if red is None:
+                    raise NNFError("the stored reduction is not one of this CNF's")
+                inner = None if red.void or not red.k else Circuit(body, red.k)
+                circ = LiftedCircuit(inner, red, self.universe)
+            else:
+                circ = Circuit(text, self.nvars, self.universe)
         except NNFError as e:
             DISK.discard(self.key)
             if from_disk:
