@@ -247,8 +247,9 @@ class CNFCounter:
                 return n
             return LiftedCircuit(_Counted(n), red, self.universe).count() << self.unused_aux
 
-        small = nvars <= INPROCESS_MAX_VARS and len(clauses) <= INPROCESS_MAX_CLAUSES
-        tiny = nvars <= INPROCESS_BUDGETED_VARS and len(clauses) <= 10 * INPROCESS_BUDGETED_VARS
+        # (where d4 runs follows the CNF's own size, as without the reduction)
+        small = self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES
+        tiny = self.nvars <= INPROCESS_BUDGETED_VARS and len(self.clauses) <= 10 * INPROCESS_BUDGETED_VARS
         if tiny or (timeout is None and cancel is None and (self.inprocess or small)):
             from .d4 import compile_inprocess
             text, n = compile_inprocess(nvars, clauses, self.d4_options, interruptible=self.inprocess)
