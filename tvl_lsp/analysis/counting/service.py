@@ -156,10 +156,11 @@ class CNFCounter:
         # compile in this process whatever the size when there is no budget (the command line:
         # Ctrl-C still works, see d4.compile_inprocess); never in the language server
         self.inprocess = inprocess
-        used: set[int] = set()
+        lits: set[int] = set()
+        add = lits.update
         for c in self.clauses:
-            for x in c:
-                used.add(abs(x))
+            add(c)
+        used = {abs(x) for x in lits}
         self.universe = sorted(set(range(1, n_features + 1)) | used)
         # auxiliary variables that occur in no clause double d4's count each
         self.unused_aux = self.nvars - len(self.universe)
