@@ -206,3 +206,20 @@ def test_uvl_model_and_its_dimacs_twin_count_the_same(fresh_cache):
     assert {k: per_d[k] for k in expected} == expected
     assert uvl.count(["Legs"], ["Lidar"], None).value == twin.count(["Legs"], ["Lidar"], None).value \
         == brute(nv, cls, [8, -4])[0]
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_without_reachability_the_counts_stay(seed, monkeypatch):
+    """A CNF whose implication graph is too big for the reachability bitsets: equivalences and
+    propagation only, the same counts."""
+    from tvl_lsp.analysis.counting import simplify
+    monkeypatch.setattr(simplify, "REACH_MAX_BITS", 0)
+    rng = random.Random(9000 + seed)
+    n = rng.randrange(2, 11)
+    cls = random_cnf(rng, n)
+    red = reduce_cnf(n, cls, n, range(1, n + 1), backbone=False)
+    assert red.void or not red.stats.get("transitive")
+    circ = lifted(n, cls, red, range(1, n + 1))
+    total, pos = brute(n, cls)
+    r = circ.counts([])
+    assert r.total == total and r.positive[1:] == pos[1:]

@@ -43,6 +43,7 @@ from .circuit import PassResult
 # bounds that keep the preprocessing a small part of a compilation
 MAX_ROUNDS = 12            # rounds of propagation / equivalences / reduction
 MIN_GAIN = 0.005           # a round after the first must remove this share of the clauses (or more)
+REACH_MAX_BITS = 1 << 28   # reachability bitsets (parts of the implication graph, size^2) up to 32 MB
 BACKBONE_SECONDS = 0.25    # the backbone is given up (nothing proved) after this long
 HIDDEN_MAX_LEN = 64        # longer clauses are not searched for hidden tautologies / literals
 BVE_MAX_PAIRS = 4096       # an auxiliary variable with more (positive x negative) clause pairs is kept
@@ -416,6 +417,12 @@ class _State:
             return self.substitute(cls, sub), True, []
         # a DAG: reachability as bitsets over each weakly connected part, sinks first
         comp, index = _parts(order, succ)
+        sizes: dict[int, int] = {}
+        for r in comp.values():
+            sizes[r] = sizes.get(r, 0) + 1
+        if sum(k * k for k in sizes.values()) > REACH_MAX_BITS:
+            self.stats["reach_skipped"] = 1
+            return cls, False, []  # the bitsets would take too much memory: equivalences only
         reach: dict[int, int] = {}
         for u in order:
             r = 0
