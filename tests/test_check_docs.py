@@ -48,7 +48,33 @@ def test_explain_unknown_code_and_listing(capsys):
     assert "dead-element" in capsys.readouterr().err
     assert main(["--explain"]) == 0
     listing = capsys.readouterr().out
-    assert all(c in listing for c in CODES)
+    rows = listing.splitlines()
+    head, table = rows[0], [r for r in rows[1:] if r and not r.startswith(" ")][:-1]
+    assert head.split() == ["CODE", "SEVERITY", "SUMMARY"]
+    assert [r.split()[0] for r in table] == sorted(CODES)
+    sev_col, sum_col = head.index("SEVERITY"), head.index("SUMMARY")
+    for r in table:  # one aligned table: every severity and summary starts in its column
+        code = r.split()[0]
+        assert r[sev_col:].startswith(CODES[code].severity.label + " ") and r[sev_col - 1] == " ", r
+        assert r[sum_col:] == CODES[code].summary and r[sum_col - 1] == " ", r
+    assert rows[-1].startswith(f"{len(CODES)} codes.")
+
+
+def test_listing_wraps_under_its_column_on_a_terminal():
+    from tvl_lsp.cli.commands.explain import listing
+    text = listing(CODES, width=80)
+    col = text.splitlines()[0].index("SUMMARY")
+    assert all(len(r) <= 80 for r in text.splitlines()[:-1])
+    cont = [r for r in text.splitlines() if r.startswith(" ")]
+    assert cont and all(r[:col].strip() == "" and r[col] != " " for r in cont)
+
+
+@pytest.mark.parametrize("code", sorted(CODES))
+def test_summaries_are_sentences(code):
+    """--explain's list, the SARIF rules and the VS Code picker show the registered summaries: one
+    style, a sentence that begins with a capital letter and ends with a full stop."""
+    s = CODES[code].summary
+    assert s[:1].isupper() and s.endswith(".") and "\n" not in s and "  " not in s, s
 
 
 EXAMPLES = [(code, m.group(1), m.group(2)) for code, sec in sorted(SECTIONS.items())

@@ -298,7 +298,7 @@ def test_damaged_cache_file_is_recompiled(fresh_cache):
 def test_disk_cache_is_bounded(tmp_path):
     dc = DiskCache(tmp_path / "c", limit=3000)
     for i in range(6):
-        dc.put(f"k{i}", "x" * 1000, 1)
+        dc.put(f"k{i}", "o 1 0\n" + "x" * 994, 1)  # (d4's format: eviction recognises it)
         os.utime(tmp_path / "c" / f"k{i}.nnf", (1000 + i, 1000 + i))
         os.utime(tmp_path / "c" / f"k{i}.count", (1000 + i, 1000 + i))
     total = sum(p.stat().st_size for p in (tmp_path / "c").iterdir())

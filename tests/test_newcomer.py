@@ -17,7 +17,7 @@ except ModuleNotFoundError:  # Python 3.10
     tomllib = None
 
 REPO = Path(__file__).resolve().parent.parent
-DOCS = [REPO / "README.md", REPO / "bench" / "README.md"]
+DOCS = [REPO / "README.md", REPO / "bench" / "README.md", REPO / "CONTRIBUTING.md", REPO / "docs" / "testing.md"]
 
 
 def _commands(path: Path) -> list[str]:

@@ -64,6 +64,9 @@ def main(argv: list[str] | None = None) -> int:
     if from_console and one_shot and ("--check" in argv or argv[0] == "check"):
         from .project import check
         check.KEEP_LAST = True  # the last file's models are left for os._exit to drop
+    if from_console and one_shot:
+        from .base.children import terminate_on_sigterm
+        terminate_on_sigterm()  # SIGTERM ends it like Ctrl-C: temporary files removed, children killed
     code = _main(argv)
     if from_console and one_shot:
         _exit_now(code)
@@ -95,8 +98,10 @@ def _main(argv: list[str]) -> int:
         if argv and argv[0] in ("-h", "--help"):
             print(__doc__)
             return 0
-        return _run("tvl_lsp.lsp.server", argv)
+        return _run("tvl_lsp.server", argv)
     except KeyboardInterrupt:
+        from .base.children import kill_all
+        kill_all()
         return 130
     except BrokenPipeError:
         return 0

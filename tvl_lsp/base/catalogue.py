@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import re
 from functools import lru_cache
-from importlib import resources
 from typing import Optional
 
 RESOURCE = ("data", "diagnostics.md")  # inside the tvl_lsp package
@@ -19,8 +18,9 @@ REPO_PATH = "tvl_lsp/data/diagnostics.md"  # where the file lives in the reposit
 
 def catalogue_text() -> Optional[str]:
     """The whole catalogue, or None when the package data is missing (a broken install)."""
+    from .files import package_text  # (through the bounded reader)
     try:
-        return resources.files("tvl_lsp").joinpath(*RESOURCE).read_text(encoding="utf-8")
+        return package_text(*RESOURCE)
     except (OSError, ModuleNotFoundError):
         return None
 

@@ -227,15 +227,14 @@ def _config_text(session: Session, params: Mapping[str, Any]) -> tuple[str, str]
 
 
 def write_files(session: Session, files: list[dict]) -> list[str]:
-    """Write planned files (``generate``'s result), only inside the session's workspace."""
-    from ..project.generate import inside
-    written = []
+    """Write planned files (``generate``'s result), only inside the session's workspace: atomic,
+    never through a symbolic link, the output folder opened once (no check-then-write race;
+    :func:`tvl_lsp.project.generate.write_configurations`).  Raises SessionError for a path
+    outside the workspace, :class:`~tvl_lsp.base.safewrite.WriteError` (an ``OSError``, one
+    line) for a file that cannot be written safely."""
+    from ..project.generate import inside, write_configurations
     for f in files:
         path = f["path"]
         if not inside(path, session.roots) or not inside(os.path.dirname(path), session.roots):
             raise SessionError(f"{path} is outside the workspace: not written")
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        with open(path, "w", encoding="utf-8") as fh:
-            fh.write(f["text"])
-        written.append(path)
-    return written
+    return write_configurations(files, session.roots)

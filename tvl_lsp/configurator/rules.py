@@ -35,9 +35,9 @@ from ..base.text import Pos, Span
 
 HAROS_RULE = "haros-rule"
 HAROS_RULE_NOT_EVALUATED = "haros-rule-not-evaluated"
-register(HAROS_RULE, Severity.WARNING, "a HAROS project rule's query finds this element", "configurator")
+register(HAROS_RULE, Severity.WARNING, "A HAROS project rule's query finds this element.", "configurator")
 register(HAROS_RULE_NOT_EVALUATED, Severity.INFORMATION,
-         "a HAROS project rule whose query tvl-lsp does not evaluate", "configurator")
+         "A HAROS project rule whose query tvl-lsp does not evaluate.", "configurator")
 
 MAX_RESULTS = 200          # results of one rule listed
 MAX_COUNT_TERMS = 5000     # subsets a len() comparison may expand to

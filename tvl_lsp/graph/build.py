@@ -317,11 +317,31 @@ def build_graph(analysis, hints: Optional[ProjectHints] = None,
                 configs: Optional[Iterable[str]] = None, sources: Optional[dict] = None) -> Graph:
     """The graph of every product of a symbolically loaded launch file (``LaunchAnalysis``)."""
     insts, params = instances_of_analysis(analysis)
-    return assemble(analysis.path, insts, params, hints, configs, sources)
+    g = assemble(analysis.path, insts, params, hints, configs, sources)
+    g.notes.extend(outside_notes(analysis.includes, lambda i: (i.outside, i.file, i.children)))
+    return g
+
+
+def outside_notes(includes, fields) -> list[str]:
+    """A note per include outside the workspace (not read: what it starts is not drawn); the
+    one rule of docs/architecture.md, "Includes outside the workspace"."""
+    out: list[str] = []
+    todo = list(includes or [])
+    while todo:
+        outside, file, children = fields(todo.pop(0))
+        if outside and file:
+            note = f"{file} is outside the workspace: not read, so the nodes it starts are not drawn"
+            if note not in out:
+                out.append(note)
+        todo.extend(children or [])
+    return out
 
 
 def build_product_graph(result, hints: Optional[ProjectHints] = None, launch: str = "",
                         configs: Optional[Iterable[str]] = None, sources: Optional[dict] = None) -> Graph:
     """The graph of one product, from what roslaunch loads for it (``LoadResult``)."""
     insts, params = instances_of_result(result)
-    return assemble(launch, insts, params, hints, configs, sources)
+    g = assemble(launch, insts, params, hints, configs, sources)
+    g.notes.extend(outside_notes(getattr(result, "includes", None),
+                                 lambda i: (i.get("outside", False), i.get("file"), i.get("includes"))))
+    return g

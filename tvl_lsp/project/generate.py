@@ -27,6 +27,9 @@ from typing import Callable, Iterable, Mapping, Optional, Sequence
 
 from xml.sax.saxutils import escape
 
+from ..base.files import read_text_or_none
+from ..base.safewrite import WriteError, check_paths, write_paths
+
 
 def quoteattr(value: str) -> str:
     """A double-quoted XML attribute value."""
@@ -62,8 +65,8 @@ def find_package(path: str, read_file=None, stop_at: Sequence[str] = ()) -> tupl
         try:
             if read_file is not None:
                 text = read_file(str(manifest))
-            elif manifest.is_file():
-                text = manifest.read_text(encoding="utf-8", errors="replace")
+            else:
+                text = read_text_or_none(str(manifest))  # regular files within the size cap only
         except OSError:
             text = None
         if text:
@@ -269,10 +272,11 @@ PYTHON_SUFFIXES = (".launch.py", "_launch.py")
 
 def writer_for(dialect: str = "ros1", generic_path: str = "", fmt: Optional[str] = None) -> ConfigWriter:
     """The writer for configurations of ``generic_path`` (read as ``dialect``): ``fmt`` when
-    given ("xml": the dialect's XML, "python", or any registered name), else the generic file's
-    own format (a Python launch file gets Python configurations)."""
+    given ("xml": the dialect's XML, "python", or any registered name), else the dialect's XML --
+    for a Python generic file too: an XML launch file that includes the ``.launch.py`` with the
+    product's arguments (issue #25; ros2 launch's XML front end includes Python files)."""
     if fmt in (None, "", "auto"):
-        fmt = "python" if str(generic_path).endswith(PYTHON_SUFFIXES) else "xml"
+        fmt = "xml"
     if fmt == "xml":
         fmt = "ros2" if dialect == "ros2" else "ros1"
     w = WRITERS.get(fmt)
@@ -366,6 +370,32 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
             raise GenerateError(_collision_message(path, other.product, p, features))
         seen[key] = files[path] = GeneratedFile(path, text, p)
     return [files[k] for k in sorted(files)]
+
+
+def write_configurations(files: Iterable, roots: Sequence[str]) -> list[str]:
+    """Write planned configuration files (:class:`GeneratedFile` or ``{"path", "text"}``
+    dicts) inside ``roots``: the one writer of the three hosts (``tvl-lsp generate``, the
+    editor command, the configurator's Generate).  Atomic, never through a symbolic link, the
+    output folder opened once from the root (:mod:`tvl_lsp.base.safewrite`); every target is
+    checked before the first is written.  Returns the paths written; raises
+    :class:`~tvl_lsp.base.safewrite.WriteError` (an ``OSError`` whose text is one line)."""
+    texts: dict[str, str] = {}
+    for f in files:
+        path, text = (f["path"], f["text"]) if isinstance(f, Mapping) else (f.path, f.text)
+        texts[path] = text
+    if not roots:
+        raise WriteError(next(iter(texts), "?"), "no workspace folder to write in")
+    try:
+        return write_paths(texts, within=list(roots))
+    except WriteError as exc:
+        exc.total = len(texts)  # (for safewrite.summary)
+        raise
+
+
+def check_configurations(files: Iterable, roots: Sequence[str]) -> None:
+    """Raise WriteError when a planned file could not be written safely (a link, a FIFO, a
+    folder that is a link, outside ``roots``): for a host that lets the editor write them."""
+    check_paths([f["path"] if isinstance(f, Mapping) else f.path for f in files], within=list(roots))
 
 
 def _collision_message(path: str, a: Mapping[str, bool], b: Mapping[str, bool], features: Sequence[str]) -> str:

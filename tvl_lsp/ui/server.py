@@ -11,6 +11,15 @@ Security model (a local server that can write files must not be drivable by othe
 - generated files are written inside the workspace only (:func:`tvl_lsp.configurator.api.write_files`);
 - file excerpts are served only for the session's own files inside the workspace.
 
+Limits (a local page, but any local process can connect): a listen backlog of
+``BACKLOG``; at most ``MAX_CONNECTIONS`` connections served at once (more are answered 503 at
+once, without a thread); each request must arrive within ``REQUEST_SECONDS`` (request line,
+headers and body: a slow sender is cut off, not waited for) and every socket operation within
+``SOCKET_SECONDS``; a body nested deeper than ``MAX_DEPTH`` is answered 400; a request with two
+``Host`` (or ``Content-Length``, ``Origin``, token...) headers, or with ``Transfer-Encoding``, is
+answered 400.  Every error is a JSON ``{"error": ...}`` (or one line of text before the API
+route is known), never a dropped connection or a traceback.
+
 Standard library only (``http.server.ThreadingHTTPServer``): the API is a handful of JSON
 routes on loopback, nothing a framework would add to.
 """
@@ -18,6 +27,7 @@ routes on loopback, nothing a framework would add to.
 from __future__ import annotations
 
 import hmac
+import io
 import json
 import mimetypes
 import os
@@ -31,7 +41,10 @@ from pathlib import Path
 from typing import Optional
 from urllib.parse import parse_qs, urlsplit
 
+from ..base.files import read_bytes, read_text
 from ..base.pools import kill_pool
+from .httplimits import (REQUEST_SECONDS, SINGLE_HEADERS, SOCKET_SECONDS, BoundedServer, DeadlineRaw,
+                         os_message, os_status, parse_body)
 from ..configurator import Session, SessionError, configurable_models
 from ..configurator import api
 from ..project.workspace import find_workspace_root, is_launch, is_model, norm
@@ -109,7 +122,9 @@ class App:
             fut = self.checks.get(s.model_path)
             if fut is None:
                 if self.pool is None:
-                    self.pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"))
+                    from ..base.children import watch_parent  # (dies with this server)
+                    self.pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
+                                                    initializer=watch_parent)
                 fut = self.pool.submit(check_files, [s.model_path] + s.launches, s.roots)
                 self.checks[s.model_path] = fut
         return fut
@@ -126,6 +141,8 @@ class App:
         deadline = time.monotonic() + 3.0
         while self.active and time.monotonic() < deadline:
             time.sleep(0.02)
+        from ..base.children import kill_all
+        kill_all()  # whatever counting process is still running (d4, pyganak): now, with its group
         kill_pool(pool)
 
     def session(self, model: Optional[str]) -> Session:
@@ -225,9 +242,33 @@ class Handler(BaseHTTPRequestHandler):
     port: int
     verbose: bool = False
 
+    timeout = SOCKET_SECONDS  # each socket operation (StreamRequestHandler.setup applies it)
+
     def log_message(self, fmt, *args):  # quiet unless asked
         if self.verbose:
             sys.stderr.write("tvl-lsp ui: " + (fmt % args) + "\n")
+
+    def setup(self) -> None:
+        super().setup()
+        self._raw = DeadlineRaw(self.connection)
+        self.rfile = io.BufferedReader(self._raw, 64 * 1024)
+
+    def handle_one_request(self) -> None:
+        # the whole request (line, headers, body) must arrive within REQUEST_SECONDS of its
+        # first byte being waited for: a sender that trickles bytes is cut off (slowloris)
+        self._raw.deadline = time.monotonic() + REQUEST_SECONDS
+        try:
+            super().handle_one_request()
+        except TimeoutError:
+            self.close_connection = True
+        except (ConnectionError, OSError):
+            self.close_connection = True
+
+    def _duplicate_header(self) -> Optional[str]:
+        for name in SINGLE_HEADERS:
+            if len(self.headers.get_all(name) or []) > 1:
+                return name
+        return None
 
     # ------------------------------------------------------------------ checks
     def _allowed_hosts(self) -> set[str]:
@@ -247,6 +288,10 @@ class Handler(BaseHTTPRequestHandler):
         return bool(given) and hmac.compare_digest(given.encode(), self.token.encode())
 
     def _send(self, status: int, body: bytes, ctype: str, extra: Optional[dict] = None) -> None:
+        try:
+            self.connection.settimeout(SOCKET_SECONDS)  # (reading may have left it shorter)
+        except OSError:
+            pass
         self.send_response(status)
         self.send_header("Content-Type", ctype)
         self.send_header("Content-Length", str(len(body)))
@@ -269,6 +314,15 @@ class Handler(BaseHTTPRequestHandler):
 
     def _gate(self) -> Optional[dict]:
         """The query, or None after refusing the request."""
+        dup = self._duplicate_header()
+        if dup is not None:
+            self.close_connection = True
+            self._refuse(HTTPStatus.BAD_REQUEST, f"bad request: more than one {dup} header")
+            return None
+        if self.headers.get("Transfer-Encoding") is not None:
+            self.close_connection = True
+            self._refuse(HTTPStatus.NOT_IMPLEMENTED, "Transfer-Encoding is not supported: send a Content-Length")
+            return None
         if not self._host_ok():
             self._refuse(HTTPStatus.FORBIDDEN, "forbidden: unexpected Host header")
             return None
@@ -284,7 +338,7 @@ class Handler(BaseHTTPRequestHandler):
             return
         route = urlsplit(self.path).path
         if route in ("/", "/index.html"):
-            html = (STATIC / "index.html").read_text(encoding="utf-8").replace(TOKEN_PLACEHOLDER, self.token)
+            html = read_text(str(STATIC / "index.html")).replace(TOKEN_PLACEHOLDER, self.token)
             self._send(HTTPStatus.OK, html.encode(), "text/html; charset=utf-8")
             return
         if route.startswith("/static/"):
@@ -296,7 +350,7 @@ class Handler(BaseHTTPRequestHandler):
             ctype = mimetypes.guess_type(name)[0] or "application/octet-stream"
             if ctype.startswith("text/") or ctype.endswith("javascript"):
                 ctype += "; charset=utf-8"
-            self._send(HTTPStatus.OK, f.read_bytes(), ctype)
+            self._send(HTTPStatus.OK, read_bytes(str(f)), ctype)
             return
         self._refuse(HTTPStatus.NOT_FOUND, "not found")
 
@@ -317,19 +371,29 @@ class Handler(BaseHTTPRequestHandler):
         if ctype != "application/json":
             self._refuse(HTTPStatus.UNSUPPORTED_MEDIA_TYPE, "the API takes application/json")
             return
-        try:
-            n = int(self.headers.get("Content-Length") or 0)
-        except ValueError:
-            n = -1
-        if n < 0 or n > MAX_BODY:
-            self._refuse(HTTPStatus.REQUEST_ENTITY_TOO_LARGE, "request too large")
+        length = (self.headers.get("Content-Length") or "0").strip()
+        n = int(length) if length.isdigit() and len(length) <= 12 else -1
+        if n < 0:
+            self.close_connection = True
+            self._json(HTTPStatus.BAD_REQUEST, {"error": "a request needs a valid Content-Length"})
+            return
+        if n > MAX_BODY:
+            self.close_connection = True  # (the body is not read)
+            self._json(HTTPStatus.REQUEST_ENTITY_TOO_LARGE, {"error": f"the request body is larger than {MAX_BODY} bytes"})
             return
         try:
-            body = json.loads(self.rfile.read(n) or b"{}")
-            if not isinstance(body, dict):
-                raise ValueError("not an object")
-        except ValueError:
-            self._json(HTTPStatus.BAD_REQUEST, {"error": "the request body must be a JSON object"})
+            data = self.rfile.read(n)
+        except OSError:
+            self.close_connection = True
+            return
+        if len(data) < n:
+            self.close_connection = True
+            self._json(HTTPStatus.BAD_REQUEST, {"error": "the request body is shorter than its Content-Length"})
+            return
+        try:
+            body = parse_body(data)
+        except ValueError as e:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": str(e)})
             return
         if op not in api.OPS and op not in ("targets", "pair"):
             self._json(HTTPStatus.NOT_FOUND, {"error": f"unknown request {op!r}"})
@@ -338,6 +402,12 @@ class Handler(BaseHTTPRequestHandler):
             out = self.app.request(op, body)
         except SessionError as e:
             self._json(HTTPStatus.UNPROCESSABLE_ENTITY, {"error": str(e)})
+            return
+        except OSError as e:  # a file that cannot be written (a link, a full disk): one line
+            self._json(os_status(e), {"error": os_message(e)})
+            return
+        except RecursionError:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": "the request is nested too deeply"})
             return
         except Exception as e:  # a bug: say so, keep serving
             self._json(HTTPStatus.INTERNAL_SERVER_ERROR, {"error": f"internal error: {type(e).__name__}: {e}"})
@@ -352,10 +422,9 @@ class Handler(BaseHTTPRequestHandler):
     do_DELETE = do_PATCH = do_OPTIONS = do_PUT
 
 
-class UiServer(ThreadingHTTPServer):
+class UiServer(BoundedServer, ThreadingHTTPServer):
     daemon_threads = True
     allow_reuse_address = True
-
     def server_close(self) -> None:
         super().server_close()
         app = getattr(self.RequestHandlerClass, "app", None)

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import os
 import random
-import shutil
 import threading
 from collections import OrderedDict
 import time
@@ -215,9 +214,11 @@ class CNFCounter:
             except EngineFailed as e:
                 _FAILED[self.key] = (str(e), None)
                 raise
-            except (ImportError, OSError, RuntimeError) as e:
-                _FAILED[self.key] = (f"d4 failed: {type(e).__name__}: {e}", None)
-                raise EngineFailed(_FAILED[self.key][0]) from e
+            except (ImportError, OSError, RuntimeError, MemoryError) as e:
+                from ...base.safewrite import reason
+                why = reason(e) if isinstance(e, OSError) else f"{type(e).__name__}: {e}"
+                _FAILED[self.key] = (f"d4 failed: {why}", None)
+                raise EngineFailed(_FAILED[self.key][0]) from None
             if text is not None and DISK.path(self.key) is None:
                 self._load(text)
             return text, n, "d4"
@@ -251,34 +252,35 @@ class CNFCounter:
         # (where d4 runs follows the CNF's own size, as without the reduction)
         small = self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES
         tiny = self.nvars <= INPROCESS_BUDGETED_VARS and len(self.clauses) <= 10 * INPROCESS_BUDGETED_VARS
-        if tiny or (timeout is None and cancel is None and (self.inprocess or small)):
+        from .d4 import inprocess_ok
+        if (tiny or (timeout is None and cancel is None and (self.inprocess or small))) and inprocess_ok(tiny):
             from .d4 import compile_inprocess
-            text, n = compile_inprocess(nvars, clauses, self.d4_options, interruptible=self.inprocess)
+            text, n = compile_inprocess(nvars, clauses, self.d4_options, interruptible=self.inprocess, tiny=tiny)
             text, n = head + text, lifted(n)
             DISK.put(self.key, text, n)
             return text, n
+        # (under a memory limit always here: d4 sizes itself to its own limits)
         from .d4 import compile_cnf
+        from ...base.files import read_text
         tmp = DISK.tmp_path(self.key)
         try:
             rep = compile_cnf(nvars, clauses, tmp, timeout=timeout, cancel=cancel,
                               progress=progress, options=self.d4_options)
             n = lifted(rep["count"])
-            if head:
-                with open(tmp + ".r", "w") as out, open(tmp) as src:
-                    out.write(head)
-                    shutil.copyfileobj(src, out, 1 << 20)
-                os.replace(tmp + ".r", tmp)
-            if DISK.adopt(self.key, tmp, n) is not None:
-                return None, n
-            with open(tmp) as fh:  # no disk cache: keep it in memory
-                return fh.read(), n
+            if head:  # the reduction's line first: stored through the cache's writer
+                text = head + read_text(tmp, C.NNF_MAX_BYTES)
+                DISK.put(self.key, text, n)
+                return text, n
+            digest = tuple(rep["nnf"]) if isinstance(rep.get("nnf"), list) else None
+            if DISK.adopt(self.key, tmp, n, digest) is None:
+                return read_text(tmp, C.NNF_MAX_BYTES), n  # no disk cache: keep it in memory
+            return None, n
         finally:
-            for f in (tmp, tmp + ".r"):
-                if os.path.exists(f):
-                    try:
-                        os.unlink(f)
-                    except OSError:
-                        pass
+            if os.path.lexists(tmp):
+                try:
+                    os.unlink(tmp)
+                except OSError:
+                    pass
 
     def _load(self, text: str, from_disk: bool = False) -> Optional[Circuit]:
         try:

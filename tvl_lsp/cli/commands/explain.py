@@ -42,13 +42,36 @@ def explain(code: str) -> Optional[str]:
     return f"## `{code}` ({info.severity.label}, {info.area})\n\n{info.summary}\n"
 
 
+def listing(codes: dict, width: Optional[int] = None) -> str:
+    """Every code in an aligned table (code, default severity, summary), grouped by nothing but
+    the alphabet.  On a terminal the summaries wrap under their column; piped, one line a code."""
+    import shutil
+    import textwrap
+    if width is None and sys.stdout.isatty():
+        width = shutil.get_terminal_size((100, 24)).columns
+    cw = max(len("CODE"), *(len(c) for c in codes))
+    sw = max(len("SEVERITY"), *(len(i.severity.label) for i in codes.values()))
+    indent = cw + sw + 4
+    lines = [f"{'CODE':<{cw}}  {'SEVERITY':<{sw}}  SUMMARY"]
+    for c in sorted(codes):
+        i = codes[c]
+        head = f"{c:<{cw}}  {i.severity.label:<{sw}}  "
+        if width and width - indent >= 30:
+            body = textwrap.wrap(i.summary, width - indent) or [""]
+            lines.append(head + body[0])
+            lines += [" " * indent + b for b in body[1:]]
+        else:
+            lines.append(head + i.summary)
+    lines.append("")
+    lines.append(f"{len(codes)} codes.  tvl-lsp --explain CODE prints a code's page: what it means, an "
+                 "example, the fix.")
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: Optional[list[str]] = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or argv[0] in ("--list", "-l"):
-        codes = load_codes()
-        for c in sorted(codes):
-            i = codes[c]
-            print(f"{c:28} {i.severity.label:11} {i.summary}")
+        sys.stdout.write(listing(load_codes()))
         return 0
     if argv[0] in ("-h", "--help"):
         print("usage: tvl-lsp --explain CODE   (no CODE: list every code)")

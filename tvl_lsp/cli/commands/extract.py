@@ -102,8 +102,12 @@ def main(argv: list[str]) -> int:
         return 2
     out = json.dumps(to_json(ex), indent=1, sort_keys=False) + "\n" if args.json else to_text(ex)
     if args.output:
-        with open(args.output, "w", encoding="utf-8") as fh:
-            fh.write(out)
+        from ...base.safewrite import write_output
+        try:  # atomic, never through a link
+            write_output(args.output, out)
+        except OSError as ex:
+            print(f"tvl-lsp extract: {ex}", file=sys.stderr)
+            return 2
     else:
         sys.stdout.write(out)
     return 0

@@ -98,8 +98,12 @@ def main(argv: list[str]) -> int:
     else:
         out = to_mermaid(g, parameters=not args.no_params)
     if args.output:
-        with open(args.output, "w", encoding="utf-8") as fh:
-            fh.write(out)
+        from ...base.safewrite import write_output
+        try:  # atomic, never through a link
+            write_output(args.output, out)
+        except OSError as ex:
+            print(f"tvl-lsp graph: {ex}", file=sys.stderr)
+            return 2
     else:
         sys.stdout.write(out)
     return 0

@@ -114,18 +114,9 @@ def flush() -> int:
         payload = json.dumps(facts, separators=(",", ":")).encode()
         head = json.dumps({"format": FORMAT, "key": key, "sha256": hashlib.sha256(payload).hexdigest()},
                           separators=(",", ":")).encode()
-        p = d / _blob_name(key)
-        tmp = d / f".{_blob_name(key)}.{os.getpid()}.{threading.get_ident()}.tmp"
-        try:
-            with open(tmp, "wb") as fh:
-                fh.write(head + b"\n" + payload)
-            os.replace(tmp, p)
+        # sealed and atomic, like every entry of the cache (issue #28); one eviction pass below
+        if disk.put_blob(_blob_name(key), head + b"\n" + payload, evict=False) is not None:
             n += 1
-        except OSError:
-            try:
-                tmp.unlink()
-            except OSError:
-                pass
     disk.evict()
     return n
 

@@ -15,12 +15,9 @@ folder of the ``generate.folder`` setting.
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-
 from pygls.exceptions import JsonRpcInvalidParams
 
-from .commands import _in_worker, _path, _refresh_lens, can_create, creation_edit, model_of
+from .commands import _in_worker, _path, _refresh_lens, model_of, write_generated
 
 CONFIGURATOR = "tvl-lsp.configurator"
 _OPS = ("model", "state", "decide", "reset", "counts", "graph", "problems", "generate", "excerpt",
@@ -81,15 +78,6 @@ async def _write(ls, files: list[dict], roots: list[str]) -> list[str]:
         if not inside(f["path"], roots):
             raise JsonRpcInvalidParams(f"{f['path']} is outside the workspace: not written")
     gen = [GeneratedFile(f["path"], f["text"]) for f in files]
-    if gen and can_create(ls):
-        from lsprotocol import types
-        result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
-            edit=creation_edit(gen), label="Generate configuration launch files"))
-        if not getattr(result, "applied", False):
-            raise JsonRpcInvalidParams("the editor did not create the files")
-    else:
-        for f in gen:
-            os.makedirs(Path(f.path).parent, exist_ok=True)
-            with open(f.path, "w", encoding="utf-8") as fh:
-                fh.write(f.text)
+    if gen and not await write_generated(ls, gen, roots):
+        raise JsonRpcInvalidParams("the editor did not create the files")
     return [f.path for f in gen]
