@@ -67,6 +67,14 @@ def full_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[st
                                      timeout=budget, workspace=workspace))
 
 
+def quick_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[str]) -> list[Diagnostic]:
+    """What :func:`full_check` reports that needs no SAT question (``check_document`` without
+    its solver): a subset of it, computed in the server process (a thread) in milliseconds."""
+    from ..project import check
+    return list(check.check_document(path, text, read_file=read, roots=list(roots) or None, solver=False,
+                                     cpu_budget=None))
+
+
 def depends_on(ls, doc, changed: str) -> bool:
     """Should ``doc`` be re-checked when the file ``changed`` changes?  A launch file depends
     on its paired models and on the launch files it may include; a model on the launch files

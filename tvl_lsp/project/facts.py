@@ -35,6 +35,10 @@ class ModelFacts:
     # parses without error: the hover of each feature declaration (hover_rows), which a
     # server answers before its own parse of the text
     hover: Optional[list] = None
+    # the time budget ran out (a busy machine, a hard model): not an answer -- a host may try
+    # again with a longer budget, and says so meanwhile (``retry``: the budget of that retry)
+    timed_out: bool = False
+    retry: Optional[float] = None
 
 
 def _names(items) -> set[str]:
@@ -90,6 +94,7 @@ def compute_model_facts(path: str, sources: dict[str, str], timeout: float,
         # count per feature (pyganak) as far as the budget goes
         r = eng.feature_counts_result(timeout=timeout)
         facts.total = r.total
+        facts.timed_out = not r.complete  # (some features' counts are missing)
         enc = eng.encoding
         for f, v in enc.var_of_feature.items():
             n = r.counts[v]
@@ -109,7 +114,9 @@ def compute_model_facts(path: str, sources: dict[str, str], timeout: float,
                 # them back (stored_model_facts) instead of parsing and counting again
                 _store(path, sources, facts, _self_contained_rows(path, sources, facts))
     except Exception as e:  # a timeout or a model the engine refuses: say so, never crash
+        from ..analysis.counting.errors import CountTimeout
         facts.error = f"{type(e).__name__}: {e}" if str(e) else type(e).__name__
+        facts.timed_out = isinstance(e, CountTimeout)
     facts.seconds = time.perf_counter() - t0
     return facts
 
@@ -209,6 +216,9 @@ def percent(n: int, total: int) -> str:
 def count_line(facts, f: M.Feature) -> str:
     if facts is None:
         return "products: counting… (hover again in a moment)"
+    if getattr(facts, "retry", None) and facts.total is None:
+        return (f"products: not counted yet ({facts.error}); counting again in the background with "
+                f"{facts.retry:g} s (hover again in a moment)")
     if facts.error and facts.total is None:
         return f"products: not counted ({facts.error})"
     total = facts.total

@@ -156,7 +156,22 @@ class CNFCounter:
         return any(not c for c in self.clauses)
 
     def d4_usable(self) -> bool:
-        return self.determined and self.key not in _FAILED
+        return self.determined and self._failure() is None
+
+    def _failure(self, timeout: Optional[float] = None, any_budget: bool = True) -> Optional[str]:
+        """Why d4 is not tried again for this CNF in this process (it failed, or ran out of a
+        budget at least ``timeout``; ``any_budget``: whatever the budget), or None.  A circuit
+        another process has put in the disk cache meanwhile (a count retried in the
+        background with a longer budget) wins over a remembered failure."""
+        failed = _FAILED.get(self.key)
+        if failed is None:
+            return None
+        if not (any_budget or failed[1] is None or (timeout is not None and timeout <= failed[1])):
+            return None
+        if DISK.has(self.key):
+            _FAILED.pop(self.key, None)
+            return None
+        return failed[0]
 
     def compiled(self, timeout: Optional[float] = None, cancel: CancelLike = None,
                  progress: Progress = None, need_nnf: bool = False) -> tuple[Optional[str], int, str]:
@@ -167,9 +182,9 @@ class CNFCounter:
         got = MEMORY.get(self.key)
         if got is not None:
             return None, -1, "memory"
-        failed = _FAILED.get(self.key)
-        if failed is not None and (failed[1] is None or (timeout is not None and timeout <= failed[1])):
-            raise EngineFailed(failed[0])
+        failed = self._failure(timeout, any_budget=False)
+        if failed is not None:
+            raise EngineFailed(failed)
         with _lock_for(self.key):
             if MEMORY.get(self.key) is not None:
                 return None, -1, "memory"
@@ -302,9 +317,9 @@ class CNFCounter:
             job = _JOBS.get(self.key)
             if job is not None and (not job.done.is_set() or job.error is not None):
                 return self._status_of(job)
-            failed = _FAILED.get(self.key)
-            if failed is not None and (failed[1] is None or (timeout is not None and timeout <= failed[1])):
-                return CompileStatus("failed", message=failed[0])
+            failed = self._failure(timeout, any_budget=False)
+            if failed is not None:
+                return CompileStatus("failed", message=failed)
             job = _JOBS[self.key] = _Job(owner)
 
         def progress(msg: str) -> None:
