@@ -66,6 +66,45 @@ def _worker_init(nice: int = 0) -> None:
             if os.getppid() != parent:
                 os._exit(0)
     threading.Thread(target=orphan_watch, daemon=True).start()
+    threading.Thread(target=_idle_trimmer, daemon=True, name="tvl-idle-trim").start()
+
+
+IDLE_SECONDS = 1.0   # a worker that used (almost) no CPU for this long is idle ...
+TRIM_AFTER_CPU = 0.5  # ... and gives its freed memory back if it worked this much since it last did
+
+
+def _cpu() -> float:
+    t = os.times()
+    return t.user + t.system
+
+
+def _idle_trimmer() -> None:
+    """When the worker goes idle after some work, collect its garbage cycles (a parse's trees
+    have parent links: they wait for a full collection) and give the free heap back to the
+    system (``malloc_trim``): an idle worker's memory is what its caches hold, not the peak of
+    its last check (issue #28: 1.87 GB after 12 edit cycles of a big model)."""
+    import gc
+    trim = None
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+            trim = ctypes.CDLL(None).malloc_trim
+        except (OSError, AttributeError):
+            trim = None
+    last = trimmed = _cpu()
+    while True:
+        time.sleep(IDLE_SECONDS)
+        now = _cpu()
+        busy, last = now - last > 0.05 * IDLE_SECONDS, now
+        if busy or now - trimmed < TRIM_AFTER_CPU:
+            continue
+        gc.collect()
+        if trim is not None:
+            try:
+                trim(0)
+            except Exception:  # noqa: BLE001 (an optimisation)
+                pass
+        trimmed = last = _cpu()
 
 
 def _warm() -> None:

@@ -53,7 +53,10 @@ PYGANAK_INPROCESS_VARS = 100  # with a budget: bigger CNFs go to a killable chil
 D4_SHARE = 0.75  # of a time budget, the part d4 gets before pyganak takes over
 MIN_FALLBACK_BUDGET = 0.2  # seconds: less is not worth starting pyganak's process
 
-MEMORY = C.MemoryCache(8)
+# parsed circuits kept in memory: at most 8, and 8 million characters of d4's NNF text in all
+# (a parsed circuit takes 25-50 bytes per character: freebsd-8.0.0's, 14 M characters, 330 MB)
+MAX_CIRCUIT_CHARS = 8_000_000
+MEMORY = C.MemoryCache(8, MAX_CIRCUIT_CHARS)
 DISK = C.DiskCache()
 # d4 failures, remembered for this process: key -> (reason, budget it had)
 _FAILED: dict[str, tuple[str, Optional[float]]] = {}
@@ -242,7 +245,7 @@ class CNFCounter:
                 return None  # damaged (a writer died, a disk error): compile again
             _FAILED[self.key] = (f"d4 wrote an unreadable d-DNNF: {e}", None)
             raise EngineFailed(_FAILED[self.key][0]) from e
-        MEMORY.put(self.key, circ)
+        MEMORY.put(self.key, circ, len(text))
         return circ
 
     def circuit(self, timeout: Optional[float] = None, cancel: CancelLike = None,
