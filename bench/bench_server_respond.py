@@ -155,7 +155,8 @@ class Editor:
 
     async def start(self, root: Path, options: Optional[dict] = None) -> None:
         env = dict(os.environ, TVL_LSP_CACHE_DIR=str(self.scratch / "cache"),
-                   TVL_LSP_LOGFILE=str(self.scratch / "server.log"), TVL_LSP_LOG="INFO")
+                   TVL_LSP_LOGFILE=str(self.scratch / "server.log"),
+                   TVL_LSP_LOG=os.environ.get("TVL_LSP_LOG", "INFO"))
         self.client_env = env
         await self.client.start_io(sys.executable, "-m", "tvl_lsp", env=env)
         caps = types.ClientCapabilities(

@@ -254,6 +254,9 @@ class _Server(Scheduler, Workers):
     async def model_sources(self, path):
         return {path: self.text}
 
+    def own_sources(self, path):
+        return None
+
     async def _stored_facts(self, *a):
         return None
 
@@ -377,3 +380,45 @@ def test_the_server_keeps_the_facts_of_the_latest_texts_of_a_model():
         srv._keep_facts("/w/m.tvl", ("facts", f"k{i}", 2.0), F.ModelFacts(total=i))
     srv._keep_facts("/w/n.tvl", ("facts", "n", 2.0), F.ModelFacts(total=9))
     assert sorted(k[1] for k in srv.cache) == ["k2", "k3", "n"]
+
+
+# ------------------------------------------------------------------ counts on a busy machine
+
+def test_a_counting_childs_budget_is_its_cpu_time_in_the_servers_workers(monkeypatch):
+    """The server's workers count with CPU-time budgets (a busy machine slows a count, it does
+    not make it time out); elsewhere (``count --timeout``) the budget is the wall clock.  A
+    sleeping child uses no CPU: spent on the wall clock, not in CPU time."""
+    import subprocess
+    import time
+    from tvl_lsp.analysis.counting import clock
+    child = subprocess.Popen(["sleep", "30"])
+    try:
+        monkeypatch.delenv(clock.ENV, raising=False)
+        wall = clock.Budget(child.pid, 0.05, start=time.monotonic() - 0.2)
+        assert not wall.cpu and wall.spent()
+        monkeypatch.setenv(clock.ENV, "cpu")
+        cpu = clock.Budget(child.pid, 0.1, start=time.monotonic() - 0.2)  # (< WALL_FACTOR x 0.1)
+        assert cpu.cpu and not cpu.spent()
+        assert clock.cpu_seconds(child.pid) is not None and clock.cpu_seconds(child.pid) < 0.05
+        stuck = clock.Budget(child.pid, 0.05, start=time.monotonic() - 0.05 * clock.WALL_FACTOR - 1)
+        assert stuck.spent()  # (the wall clock still ends it, at WALL_FACTOR times its budget)
+    finally:
+        child.kill()
+        child.wait()
+
+
+def test_a_model_that_reads_no_other_file_is_counted_without_waiting_for_its_parse(tmp_path):
+    from tvl_lsp.lsp.documents import DocumentStore
+
+    class Store(DocumentStore):
+        def __init__(self):
+            self._init_documents()
+    s = Store()
+    files = {"a.tvl": "root A { group allOf { opt B } }", "b.tvl": "root A {}\ninclude(c.tvl);",
+             "c.uvl": "features\n\tA\n", "d.uvl": "imports\n\tx\nfeatures\n\tA\n", "e.dimacs": "p cnf 1 0\n"}
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    got = {name: s.own_sources(str(tmp_path / name)) for name in files}
+    assert got["a.tvl"] == {str(tmp_path / "a.tvl"): files["a.tvl"]}
+    assert got["c.uvl"] and got["e.dimacs"]
+    assert got["b.tvl"] is None and got["d.uvl"] is None  # (their parse says what they read)

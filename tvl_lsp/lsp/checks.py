@@ -125,9 +125,13 @@ def full_check_worker(kind: str, path: str, text: str, texts: dict[str, str], ro
         check.invalidate_workspaces()
         _LAST_EPOCH[0] = epoch
     read = SnapshotReader(texts)
+    import time
+    t0 = time.perf_counter()
     if kind in ("tvl", "uvl", "dimacs"):  # (every model format: project.facts.MODEL_KINDS)
         _start_compiling(path, text, read, budget)
-    return full_check(kind, path, text, read, roots, budget, None)
+    out = full_check(kind, path, text, read, roots, budget, None)
+    log.debug("check of %s: %d diagnostics in %.2f s", path, len(out), time.perf_counter() - t0)
+    return out
 
 
 def _start_compiling(path: str, text: str, read: Reader, budget: float) -> None:

@@ -12,6 +12,7 @@ import asyncio
 import hashlib
 import logging
 import os
+import re
 from pathlib import Path
 from typing import Any, Callable, Optional
 
@@ -276,6 +277,19 @@ class DocumentStore:
         except Exception:
             log.exception("pairing failed")
             return []
+
+    def own_sources(self, model_path: str) -> Optional[dict[str, str]]:
+        """``{model_path: text}`` when the model's text cannot read another file (no word
+        ``include`` in a TVL model, ``import`` in a UVL one; a DIMACS file never does): its
+        :meth:`model_sources` without waiting for its parse -- the counts start at once."""
+        kind = file_kind(model_path)
+        text = self.read_file(model_path)
+        if text is None or kind not in ("tvl", "uvl", "dimacs"):
+            return None
+        word = {"tvl": "include", "uvl": "import"}.get(kind)
+        if word is not None and re.search(word, text, re.IGNORECASE):
+            return None
+        return {model_path: text}
 
     async def model_sources(self, model_path: str) -> Optional[dict[str, str]]:
         res = await self.parsed(model_path, wait=None)

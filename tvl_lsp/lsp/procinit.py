@@ -46,6 +46,14 @@ def _worker_init(nice: int = 0) -> None:
     """Worker processes die with the server (an editor may kill it without a ``shutdown``);
     ``nice``: lower this process's priority by that much (the background process only)."""
     bound_heap()
+    if os.environ.get("TVL_LSP_LOGFILE"):  # the server's log, with this process's id
+        import logging
+        logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING").upper(),
+                            filename=os.environ["TVL_LSP_LOGFILE"],
+                            format=f"%(asctime)s %(levelname)s %(name)s [worker {os.getpid()}]: %(message)s")
+    # counts run in the background while the user works on: their budgets are CPU time, so a
+    # busy machine slows them down without turning them into timeouts (analysis/counting/clock.py)
+    os.environ["TVL_LSP_COUNT_CLOCK"] = "cpu"
     if nice:
         try:
             os.nice(nice)
@@ -112,5 +120,7 @@ def _warm() -> None:
         from ..project import facts as _facts  # noqa: F401
         from ..analysis import engine  # noqa: F401
         from ..tvl import parse_model  # noqa: F401
+        from ..configurator.preload import warm_parsers
+        warm_parsers()
     except Exception:
         pass

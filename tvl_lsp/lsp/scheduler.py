@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
+from ..analysis.counting.clock import WALL_FACTOR
 from ..base.diagnostics import Diagnostic
 from ..base.text import LineIndex
 from ..project import budget as file_budget
@@ -327,7 +328,8 @@ class Scheduler:
         after that many seconds (the computation goes on and lands in the cache).
         ``submitted`` is set once the work is queued (or not needed)."""
         try:
-            sources = await self.model_sources(model_path)
+            # (a model that reads no other file: its text alone, without waiting for its parse)
+            sources = self.own_sources(model_path) or await self.model_sources(model_path)
         except BaseException:
             if submitted is not None:
                 submitted.set()
@@ -374,7 +376,9 @@ class Scheduler:
                     # for its diagnostics (one parse, one encoding: tvl_lsp.project.models);
                     # d4 compiles in the background there and the check process stays free
                     # for checks: ask again until the circuit is ready, then one pass counts
-                    end = loop.time() + budget + 30
+                    # (the workers' count budgets are CPU time: on a busy machine a count takes
+                    # longer than its budget on the wall clock, up to WALL_FACTOR times)
+                    end = loop.time() + budget * WALL_FACTOR + 30
 
                     def ask_check_process():
                         c = self.check_pool.submit(_facts.compute_model_facts, model_path, sources, budget,
@@ -428,7 +432,7 @@ class Scheduler:
                         self._facts_queued[model_path] = (key[1], cfut)
                         afut = asyncio.wrap_future(cfut)
                         afut.add_done_callback(_consume)
-                        facts = await asyncio.wait_for(asyncio.shield(afut), budget + 30)
+                        facts = await asyncio.wait_for(asyncio.shield(afut), budget * WALL_FACTOR + 30)
                 except (cf.CancelledError, asyncio.CancelledError):
                     if cfut is not None and cfut.cancelled():
                         return _facts.ModelFacts(error="cancelled: the model changed")
@@ -506,7 +510,7 @@ class Scheduler:
                 cfut = self.background_pool.submit(_facts.compute_model_facts, model_path, sources, budget)
                 afut = asyncio.wrap_future(cfut)
                 afut.add_done_callback(_consume)
-                facts = await asyncio.wait_for(asyncio.shield(afut), budget + 30)
+                facts = await asyncio.wait_for(asyncio.shield(afut), budget * WALL_FACTOR + 30)
             except asyncio.CancelledError:
                 self.stop_background_pool()  # (stale: the model changed)
                 raise

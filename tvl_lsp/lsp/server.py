@@ -167,9 +167,10 @@ class TvlLanguageServer(DocumentStore, Scheduler, KnownDiagnostics, Workers, Lan
 
 
 def create_server() -> TvlLanguageServer:
-    from ..configurator.preload import import_core
+    from ..configurator.preload import import_core, warm_parsers
     from .features import register_all
     import_core()  # before any check thread exists: concurrent first imports are not safe
+    warm_parsers()  # (the first document opened is parsed at once)
     server = TvlLanguageServer()
     register_all(server)
     return server

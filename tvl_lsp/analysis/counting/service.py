@@ -28,6 +28,7 @@ sampling of big models (:mod:`.sampling`) from the same compiled file.
 
 from __future__ import annotations
 
+import logging
 import os
 import random
 import threading
@@ -57,6 +58,7 @@ MIN_FALLBACK_BUDGET = 0.2  # seconds: less is not worth starting pyganak's proce
 # (a parsed circuit takes 25-50 bytes per character: freebsd-8.0.0's, 14 M characters, 330 MB)
 MAX_CIRCUIT_CHARS = 8_000_000
 MEMORY = C.MemoryCache(8, MAX_CIRCUIT_CHARS)
+_log = logging.getLogger("tvl_lsp.counting")
 DISK = C.DiskCache()
 # d4 failures, remembered for this process: key -> (reason, budget it had)
 _FAILED: dict[str, tuple[str, Optional[float]]] = {}
@@ -330,7 +332,8 @@ class CNFCounter:
 
         def run() -> None:
             try:
-                self.circuit(timeout, job.cancel, progress)
+                comp = self.circuit(timeout, job.cancel, progress)
+                _log.debug("%s: circuit ready in %.2f s (%s)", self.label, comp.seconds, comp.source)
             except (CountTimeout, EngineFailed) as e:
                 job.error = str(e)
             except CountCancelled:
