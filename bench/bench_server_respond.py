@@ -4,6 +4,7 @@
     .venv/bin/python bench/bench_server_respond.py actions [--busy N] [--editors 4] [--keys 60]
     .venv/bin/python bench/bench_server_respond.py hover   [--busy N] [--model PATH.uvl] [--repeat 2]
     .venv/bin/python bench/bench_server_respond.py memory  [--model PATH] [--cycles 12]
+    .venv/bin/python bench/bench_server_respond.py soak    [--model PATH] [--minutes 10]
 
 ``--busy N`` starts N processes that only burn CPU (``python -c 'while 1: pass'``, at normal
 priority: a background build) before the servers and stops them at the end; ``--busy 2x``
@@ -19,7 +20,8 @@ means two per core.  Every server is a fresh ``tvl-lsp`` on stdio with an empty 
   into their launch file at once (one key every ``--interval`` s, inside a comment) and, after
   every key, ask for the code actions at an ``unmatched-arg`` (as VS Code does on every cursor
   move and diagnostics change): the latency of every ``codeAction`` (p50 / p95 / max) and how
-  many answers held the arg's quick fix (the light bulb).
+  many answers held a quick fix (the light bulb).  ``--ws DIR --launch REL --at TEXT``: type
+  into another launch file (e.g. the thesis's lizi) and ask at TEXT.
 - ``hover``: opens ``--model`` (default: automotive01.uvl of the shared models) and hovers a
   feature every 0.25 s until the hover shows its count: the time from opening to the first
   counted hover.
@@ -28,6 +30,10 @@ means two per core.  Every server is a fresh ``tvl-lsp`` on stdio with an empty 
   restores it, waiting for each text's check; prints the RSS of the server and of its worker
   processes (with their d4 children) after the first check, after each cycle, and idle at the
   end.
+- ``soak``: an hour of editing, compressed: ``--minutes`` of edits (bursts of keys, a feature
+  renamed, lines deleted, undos) to the big model and the robot's launch file, a key every
+  ``--interval`` s on average, with hovers, code actions and code lenses; the tree's RSS every
+  ``--sample`` s, then idle.
 
 Prints one line per measure with the machine's load (``os.getloadavg``).
 """
@@ -276,7 +282,11 @@ async def actions(args) -> None:
     try:
         for i in range(args.editors):
             d = scratch / f"e{i}"
-            launch, _ = robot_ws(d / "ws")
+            if args.ws:
+                shutil.copytree(args.ws, d / "ws", symlinks=True)
+                launch = d / "ws" / args.launch
+            else:
+                launch, _ = robot_ws(d / "ws")
             ed = Editor(d, f"editor{i}")
             await ed.start(d / "ws")
             eds.append((ed, launch))
@@ -285,9 +295,10 @@ async def actions(args) -> None:
         lat = [x for r in results for x in r["lat"]]
         bulbs = sum(r["bulbs"] for r in results)
         asked = sum(len(r["lat"]) for r in results)
-        print(f"# codeAction while {args.editors} editors type (a key every {args.interval * 1000:.0f} ms, "
-              f"{args.keys} keys each), {args.busy_n} busy processes, {load()}")
-        print(f"codeAction at the unmatched arg   {fmt(lat)}  quick fix offered in {bulbs} of {asked} answers")
+        name = args.launch or "robot.launch"
+        print(f"# codeAction while {args.editors} editors type in {Path(name).name} (a key every "
+              f"{args.interval * 1000:.0f} ms, {args.keys} keys each), {args.busy_n} busy processes, {load()}")
+        print(f"codeAction at `{args.at}`   {fmt(lat)}  quick fix offered in {bulbs} of {asked} answers")
         print(f"  (typing took {time.perf_counter() - t_open:.1f} s)")
     finally:
         for ed, _ in eds:
@@ -295,19 +306,42 @@ async def actions(args) -> None:
         shutil.rmtree(scratch, ignore_errors=True)
 
 
+async def full_check_of(ed: Editor, uri: str, version: int, timeout: float = 300) -> None:
+    """Until the results of ``version`` come from its full check (documentState)."""
+    end = time.perf_counter() + timeout
+    while time.perf_counter() < end:
+        st = await ed.client.workspace_execute_command_async(types.ExecuteCommandParams(
+            command="tvl-lsp.documentState", arguments=[uri]))
+        if "phase" not in st:  # (a server before #28: its first publication, then 3 s)
+            await ed.wait_for(lambda u, v, d: u == uri and v == version, timeout)
+            await asyncio.sleep(3)
+            return
+        if st["phase"] == "full" and st["resultVersion"] == version:
+            return
+        await asyncio.sleep(0.2)
+
+
 async def type_and_ask(ed: Editor, launch: Path, args) -> dict:
+    """Open the launch file, wait for its first full check, then type into a comment of a
+    line of its own below ``<launch>`` (so that the file stays valid), and ask for the code
+    actions at ``args.at`` after every key."""
     text = launch.read_text()
     uri = ed.open(launch, text)
-    # the first full check: the quick fix is known from here on
-    await ed.wait_for(lambda u, v, d: u == uri and has("dead-element")(d), 120)
+    await full_check_of(ed, uri, 1)
     lines = text.split("\n")
-    cline = next(i for i, ln in enumerate(lines) if "<!--" in ln)
-    col = lines[cline].index(" -->")
-    aline = next(i for i, ln in enumerate(lines) if "Camra" in ln)
-    acol = lines[aline].index("Camra") + 2
+    cline = next(i for i, ln in enumerate(lines) if "<launch" in ln) + 1
+    opener = "  <!-- "
+    ed.change(uri, 2, types.Range(start=types.Position(line=cline, character=0),
+                                  end=types.Position(line=cline, character=0)), opener + " -->\n")
+    text = "\n".join(lines[:cline] + [opener + " -->"] + lines[cline:])
+    lines = text.split("\n")
+    col = len(opener)
+    i = text.index(args.at)
+    aline = text.count("\n", 0, i)
+    acol = i - (text.rfind("\n", 0, i) + 1) + 1
     at = types.Range(start=types.Position(line=aline, character=acol), end=types.Position(line=aline, character=acol))
     lat, bulbs = [], 0
-    version = 1
+    version = 2
     typed = 0
     for k in range(args.keys):
         version += 1
@@ -326,7 +360,7 @@ async def type_and_ask(ed: Editor, launch: Path, args) -> dict:
             text_document=types.TextDocumentIdentifier(uri=uri), range=at,
             context=types.CodeActionContext(diagnostics=[], trigger_kind=types.CodeActionTriggerKind.Automatic)))
         lat.append(time.perf_counter() - t)
-        if any(getattr(a, "kind", None) == types.CodeActionKind.QuickFix and "Rename" in a.title for a in got or []):
+        if any(getattr(a, "kind", None) == types.CodeActionKind.QuickFix for a in got or []):
             bulbs += 1
         await asyncio.sleep(max(0.0, args.interval - (time.perf_counter() - t)))
     return {"lat": lat, "bulbs": bulbs}
@@ -503,21 +537,114 @@ async def memory(args) -> None:
         shutil.rmtree(scratch, ignore_errors=True)
 
 
+async def soak(args) -> None:
+    """An hour of editing, compressed: the big model and the robot's launch file edited
+    for ``--minutes`` (bursts of keys in comments, a feature renamed and renamed back, lines
+    deleted and typed again), with hovers, code actions and code lenses meanwhile; the process
+    tree's RSS every ``--sample`` seconds, and idle at the end."""
+    import random
+    model = Path(args.model or SHARED_MODELS / "uvl" / "automotive01.uvl")
+    if not model.exists():
+        print(f"bench_server_respond: no {model} (pass --model PATH); nothing measured")
+        return
+    rng = random.Random(args.seed)
+    scratch = Path(tempfile.mkdtemp(prefix="tvl-soak-"))
+    launch, _ = robot_ws(scratch / "ws")
+    big = scratch / "ws" / model.name
+    shutil.copy(model, big)
+    ed = Editor(scratch)
+    try:
+        await ed.start(scratch / "ws", {"count": {"timeBudget": 30}})
+        pid = ed.pid
+        docs = {}
+        for p in (big, launch):
+            text = p.read_text()
+            docs[ed.open(p, text, p.suffix.lstrip("."))] = [text, 1, text]
+        for uri in docs:
+            await full_check_of(ed, uri, 1, 600)
+        await asyncio.sleep(args.settle)
+        s0, w0 = tree_mb(pid)
+        print(f"# soak: {args.minutes:g} min of edits to {model.name} and robot.launch, {load()}")
+        print(f"after the first checks   server {s0:7.0f} MB  workers {w0:7.0f} MB  total {s0 + w0:7.0f} MB")
+        peak = s0 + w0
+        t0 = time.perf_counter()
+        next_sample = t0 + args.sample
+        edits = 0
+        while time.perf_counter() - t0 < args.minutes * 60:
+            uri = rng.choice(list(docs))
+            text, version, original = docs[uri]
+            r = rng.random()
+            if r < 0.05:
+                new = original  # undo everything
+            elif r < 0.15 and uri.endswith(".uvl"):
+                line, col, name = uvl_feature_line(original)
+                new = text.replace(name, name + "x") if name in text else original
+            elif r < 0.25:
+                lines = text.split("\n")
+                i = rng.randrange(len(lines))
+                new = "\n".join(lines[:i] + lines[i + 1:])  # a line deleted
+            else:
+                # a few keys in a comment at a random line
+                lines = text.split("\n")
+                i = rng.randrange(1, len(lines))
+                c = "//" if uri.endswith(".uvl") else "<!--"
+                end = "" if uri.endswith(".uvl") else " -->"
+                word = "".join(rng.choice("abcdefgh ") for _ in range(rng.randint(1, 8)))
+                lines.insert(i, f"{c} {word}{end}" if not uri.endswith(".uvl") else f"\t{c} {word}")
+                new = "\n".join(lines)
+            version += 1
+            ed.change(uri, version, None, new)
+            docs[uri] = [new, version, original]
+            edits += 1
+            if edits % 10 == 0:
+                lines = new.split("\n")
+                pos = types.Position(line=rng.randrange(len(lines)), character=2)
+                tdi = types.TextDocumentIdentifier(uri=uri)
+                await ed.client.text_document_hover_async(types.HoverParams(text_document=tdi, position=pos))
+                await ed.client.text_document_code_action_async(types.CodeActionParams(
+                    text_document=tdi, range=types.Range(start=pos, end=pos),
+                    context=types.CodeActionContext(diagnostics=[])))
+                if uri.endswith(".uvl"):
+                    await ed.client.text_document_code_lens_async(types.CodeLensParams(text_document=tdi))
+            await asyncio.sleep(rng.expovariate(1.0 / args.interval))
+            if time.perf_counter() >= next_sample:
+                next_sample += args.sample
+                s, w = tree_mb(pid)
+                peak = max(peak, s + w)
+                print(f"{time.perf_counter() - t0:6.0f} s {edits:6d} edits  server {s:7.0f} MB  workers {w:7.0f} MB"
+                      f"  total {s + w:7.0f} MB  ({(s + w) / (s0 + w0):.2f}x)")
+        for uri in docs:
+            await full_check_of(ed, uri, docs[uri][1], 600)
+        await asyncio.sleep(args.idle)
+        s, w = tree_mb(pid)
+        print(f"idle {args.idle:g} s after {edits} edits: server {s:7.0f} MB  workers {w:7.0f} MB  total {s + w:7.0f} MB"
+              f"  ({(s + w) / (s0 + w0):.2f}x; peak {peak / (s0 + w0):.2f}x)")
+    finally:
+        await ed.stop()
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("what", choices=["first", "actions", "hover", "memory"])
+    ap.add_argument("what", choices=["first", "actions", "hover", "memory", "soak"])
     ap.add_argument("--busy", default="0", help="CPU-burning processes meanwhile: N, or Nx (N per core)")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--editors", type=int, default=4)
     ap.add_argument("--keys", type=int, default=60)
     ap.add_argument("--interval", type=float, default=0.15, help="seconds between keys")
     ap.add_argument("--ask-after", type=float, default=0.0, help="actions: seconds from a key to the request")
+    ap.add_argument("--ws", help="actions: a workspace to copy (default: a generated robot package)")
+    ap.add_argument("--launch", help="actions: the launch file typed into, relative to --ws")
+    ap.add_argument("--at", default="Camra", help="actions: the text whose code actions are asked for")
     ap.add_argument("--keep", action="store_true", help="keep the scratch folders (server logs)")
     ap.add_argument("--model", help="the model of 'hover' and 'memory' (default: automotive01.uvl)")
     ap.add_argument("--timeout", type=float, default=300)
     ap.add_argument("--cycles", type=int, default=12)
     ap.add_argument("--settle", type=float, default=1.0, help="memory: seconds after each text's counts")
-    ap.add_argument("--idle", type=float, default=10.0, help="memory: seconds idle at the end")
+    ap.add_argument("--idle", type=float, default=10.0, help="memory, soak: seconds idle at the end")
+    ap.add_argument("--minutes", type=float, default=10.0, help="soak: minutes of editing")
+    ap.add_argument("--sample", type=float, default=30.0, help="soak: seconds between RSS samples")
+    ap.add_argument("--seed", type=int, default=1, help="soak: the edits' random seed")
     args = ap.parse_args()
     args.busy_n = busy_count(args.busy)
     global KEEP
@@ -528,7 +655,8 @@ def main() -> int:
     try:
         if args.busy_n:
             time.sleep(2.0)  # the load is there before the servers start
-        asyncio.run({"first": first, "actions": actions, "hover": hover, "memory": memory}[args.what](args))
+        asyncio.run({"first": first, "actions": actions, "hover": hover, "memory": memory,
+                     "soak": soak}[args.what](args))
     finally:
         busy.stop()
     return 0

@@ -67,12 +67,15 @@ def full_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[st
                                      timeout=budget, workspace=workspace))
 
 
-def quick_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[str]) -> list[Diagnostic]:
+def quick_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[str],
+                workspace=None) -> list[Diagnostic]:
     """What :func:`full_check` reports that needs no SAT question (``check_document`` without
-    its solver): a subset of it, computed in the server process (a thread) in milliseconds."""
+    its solver): a subset of it, computed in the server process (a thread) in milliseconds.
+    ``workspace``: the server's (its files, packages and project files, parsed once per
+    change of the workspace rather than once per keystroke)."""
     from ..project import check
     return list(check.check_document(path, text, read_file=read, roots=list(roots) or None, solver=False,
-                                     cpu_budget=None))
+                                     cpu_budget=None, workspace=workspace))
 
 
 def depends_on(ls, doc, changed: str) -> bool:

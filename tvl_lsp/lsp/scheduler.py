@@ -121,6 +121,8 @@ class Scheduler:
                     # this text is under way: one parse per text at a time
                     parsed = await asyncio.shield(self.parse_task(path, kind, text))
                     diags = list(getattr(parsed, "diagnostics", []) or [])
+                    if uri in self._syntax_dirty and uri in self.results:
+                        continue  # a newer text came meanwhile: on to it (a burst of keys)
                     if kind == "launch":
                         if uri not in self.results and self.docs.get(uri) is doc and doc.version == version:
                             # a file just opened: its syntax at once (milliseconds), then ...
@@ -128,8 +130,7 @@ class Scheduler:
                             self.publish(uri)
                         # ... the checks that need no solver (pairing, missing / unmatched
                         # args): shown before the worker processes are even up
-                        diags = await self.run_in_thread(checks.quick_check, kind, path, text,
-                                                         self.snapshot_reader(), self.roots_for(path))
+                        diags = await self.run_in_thread(self._quick_check, path, text, self.snapshot_reader())
                     log.info("%s pass of %s: %d diagnostics", phase, path, len(diags))
                 except Exception:
                     log.exception("%s pass of %s failed", phase, path)
@@ -218,6 +219,14 @@ class Scheduler:
                 self.trim_when_idle()  # nothing else pending: give the freed heap back
         except asyncio.CancelledError:
             pass
+
+    def _quick_check(self, path: str, text: str, read) -> list[Diagnostic]:
+        """A launch file's quick check (in a thread), with the server's workspace."""
+        try:
+            ws = self.workspace_model(path)
+        except Exception:  # noqa: BLE001 (the check finds it again itself, and reports what fails)
+            ws = None
+        return checks.quick_check("launch", path, text, read, self.roots_for(path), ws)
 
     async def _solver_part(self, uri: str, version, diags: list[Diagnostic]) -> frozenset:
         """The indexes of ``diags`` (the full check of ``version``) that its quick pass does
