@@ -120,7 +120,5 @@ def _warm() -> None:
         from ..project import facts as _facts  # noqa: F401
         from ..analysis import engine  # noqa: F401
         from ..tvl import parse_model  # noqa: F401
-        from ..configurator.preload import warm_parsers
-        warm_parsers()
     except Exception:
         pass
