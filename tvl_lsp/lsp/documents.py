@@ -228,12 +228,23 @@ class DocumentStore:
         key = self._parse_key(path, text)
         running = self._parsing.get(path)
         if running is None or running[0] != key:
-            task = asyncio.ensure_future(self._parse_now(path, kind, text))
+            # one parse of a file at a time: a newer text waits for the parse of the older one
+            # to end (a thread cannot be stopped), so a burst of edits to a big model never
+            # has two of its parses in memory at once
+            before = running[1] if running is not None and not running[1].done() else None
+            task = asyncio.ensure_future(self._parse_now(path, kind, text, before))
             task.add_done_callback(lambda t: t.cancelled() or t.exception())
             self._parsing[path] = running = (key, task)
         return running[1]
 
-    async def _parse_now(self, path: str, kind: str, text: str):
+    async def _parse_now(self, path: str, kind: str, text: str, before: Optional[asyncio.Future] = None):
+        if before is not None:
+            try:
+                await asyncio.shield(before)
+            except BaseException:
+                if not before.done():
+                    raise  # (this parse was cancelled)
+                # (the older parse failed: its own waiters see how)
         try:
             parsed = await self.run_in_thread(checks.parse_document, kind, path, text,
                                               self.snapshot_reader(), self.roots)

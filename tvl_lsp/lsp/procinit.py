@@ -99,12 +99,10 @@ def _idle_trimmer() -> None:
             trim = ctypes.CDLL(None).malloc_trim
         except (OSError, AttributeError):
             trim = None
-    last = trimmed = _cpu()
+    when = IdleTrim(_cpu())
     while True:
         time.sleep(IDLE_SECONDS)
-        now = _cpu()
-        busy, last = now - last > 0.05 * IDLE_SECONDS, now
-        if busy or now - trimmed < TRIM_AFTER_CPU:
+        if not when.due(_cpu()):
             continue
         gc.collect()
         if trim is not None:
@@ -112,7 +110,24 @@ def _idle_trimmer() -> None:
                 trim(0)
             except Exception:  # noqa: BLE001 (an optimisation)
                 pass
-        trimmed = last = _cpu()
+        when.done(_cpu())
+
+
+class IdleTrim:
+    """When to trim (:func:`_idle_trimmer`), from the process's CPU time read every
+    :data:`IDLE_SECONDS`: once it is idle (almost no CPU used since the last reading) after
+    at least :data:`TRIM_AFTER_CPU` seconds of work since the last trim -- never while it
+    works, never twice for one piece of work."""
+
+    def __init__(self, cpu: float):
+        self.last = self.trimmed = cpu
+
+    def due(self, cpu: float) -> bool:
+        busy, self.last = cpu - self.last > 0.05 * IDLE_SECONDS, cpu
+        return not busy and cpu - self.trimmed >= TRIM_AFTER_CPU
+
+    def done(self, cpu: float) -> None:
+        self.trimmed = self.last = cpu
 
 
 def _warm() -> None:

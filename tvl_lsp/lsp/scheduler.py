@@ -130,7 +130,11 @@ class Scheduler:
                             self.publish(uri)
                         # ... the checks that need no solver (pairing, missing / unmatched
                         # args): shown before the worker processes are even up
-                        diags = await self.run_in_thread(self._quick_check, path, text, self.snapshot_reader())
+                        try:
+                            diags = await self.run_in_thread(self._quick_check, path, text, self.snapshot_reader())
+                        except Exception:  # (its syntax, then: the full check reports the rest)
+                            log.exception("quick check of %s failed", path)
+                            phase = "syntax"
                     log.info("%s pass of %s: %d diagnostics", phase, path, len(diags))
                 except Exception:
                     log.exception("%s pass of %s failed", phase, path)
