@@ -93,11 +93,14 @@ COUNT_STATES = """(() => {
   }).observe(document, {attributes: true, subtree: true, attributeFilter: ['data-counts']});
 })();"""
 
-VISIBLE_OPEN = """() => [...document.querySelectorAll('g.feature[data-status=open]')]
-    .filter(g => { const r = g.querySelector('.btn-include').getBoundingClientRect();
+# an open feature whose include control (the diagram's "+", the tree's box) a person can see
+VISIBLE_OPEN = """() => [...document.querySelectorAll(
+      'g.feature[data-status=open] .btn-include, .tree-row[data-status=open] [data-act=include]')]
+    .filter(b => { const r = b.getBoundingClientRect();
                    const hit = document.elementFromPoint(r.x + r.width / 2, r.y + r.height / 2);
-                   return hit && g.contains(hit); })
-    .map(g => g.dataset.feature).filter(f => f !== 'Root')"""
+                   return hit && (b === hit || b.contains(hit)); })
+    .map(b => b.closest('[data-feature]').dataset.feature).filter(f => f !== 'Root')"""
+INCLUDE = ('g.feature[data-feature="{f}"] .btn-include, .tree-row[data-feature="{f}"] [data-act=include]')
 
 
 def one_run(ws: Path, chromium: str, clicks: int, shot: Optional[Path]) -> dict:
@@ -137,8 +140,8 @@ def one_run(ws: Path, chromium: str, clicks: int, shot: Optional[Path]) -> dict:
                 else:
                     want = "open"
                 t = time.perf_counter()
-                pg.locator(f'g.feature[data-feature="{fid}"] .btn-include').click()
-                pg.wait_for_selector(f'g.feature[data-feature="{fid}"][data-status="{want}"]', timeout=60000)
+                pg.locator(INCLUDE.format(f=fid)).first.click()
+                pg.wait_for_selector(f'[data-feature="{fid}"][data-status="{want}"]', timeout=60000)
                 out.setdefault("click -> decision + propagation drawn", []).append(time.perf_counter() - t)
                 if _wait(pg, f"#remaining:not([data-remaining='{before}']):not([data-remaining='']):not(.pending)"):
                     out.setdefault("click -> every count updated", []).append(time.perf_counter() - t)

@@ -21,6 +21,8 @@ and once ``tvl-lsp --check WORKSPACE`` (check_paths, as the CLI).  It reports:
 - ``--check`` errors that are false: an error with a witness where roslaunch, run with the
   witness, loads the file; an error without a witness (it holds whatever the args) where
   roslaunch loads the file under one of the assignments;
+- runs where both fail: counted, and those whose two messages name nothing in common listed
+  (``both_fail_other_cause``: read them, they may fail for different reasons);
 - files that roslaunch rejects with their defaults (not for a package missing from the
   workspace, nor one roslaunch finds outside it, under /usr or /opt; nor a generic launch file
   paired with a feature model, whose args its configurations set) where ``--check`` says
@@ -31,8 +33,10 @@ With ``--stub-missing``, every package roslaunch cannot find gets an empty stub 
 program), so that files using third-party packages load and their parameters compare.
 
 Assignments per file: the defaults (no args); every top-level arg without a default set to
-``true`` and every boolean default flipped; every arg without a default set to ``false``; and
-each ``--check`` witness.
+``true`` and every boolean default flipped; every arg without a default set to ``false``; with
+``--strings``, string variants (one run per value an ``$(eval)`` of the file compares a string
+arg with: ``arg('robot') == 'iron'``, ``{'iron': False}.get(arg('robot'), True)``, at most four);
+and each ``--check`` witness.
 """
 
 from __future__ import annotations
@@ -99,7 +103,7 @@ def top_args(path: str) -> list[tuple[str, str | None, bool]]:
     return out
 
 
-def assignments(path: str) -> list[dict[str, str]]:
+def assignments(path: str, strings: bool = False) -> list[dict[str, str]]:
     args = [a for a in top_args(path) if not a[2]]
     a0: dict[str, str] = {}
     a1 = {}
@@ -114,21 +118,85 @@ def assignments(path: str) -> list[dict[str, str]]:
     for a in (a1, a2):
         if a and a not in out:
             out.append(a)
+    if strings:  # string variants: a value the file compares a string arg with
+        defaults = {n: d for n, d, _ in args}
+        for name, lit in string_variants(path, defaults)[:MAX_STRING_VARIANTS]:
+            a = {name: lit}
+            if a not in out:
+                out.append(a)
+    return out
+
+
+MAX_STRING_VARIANTS = 4
+
+
+def string_variants(path: str, defaults: dict) -> list[tuple[str, str]]:
+    """(arg, value) pairs for the top-level args whose default is no boolean (or none): the
+    string literals the file's $(eval)s compare the arg with (==, !=, in [...], a dict's keys
+    in {...}.get(arg), a list's items in [...].index(arg)), other than the default, in order."""
+    import ast
+    try:
+        text = Path(path).read_text(errors="replace")
+    except OSError:
+        return []
+    cands = {n for n, d in defaults.items() if d is None or d.strip().lower() not in ("true", "false")}
+    out: list[tuple[str, str]] = []
+
+    def reads(n) -> str | None:
+        if isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "arg" and n.args and \
+                isinstance(n.args[0], ast.Constant) and isinstance(n.args[0].value, str):
+            return n.args[0].value
+        if isinstance(n, ast.Name):
+            return n.id
+        return None
+
+    def strs(n) -> list[str]:
+        if isinstance(n, ast.Constant) and isinstance(n.value, str):
+            return [n.value]
+        if isinstance(n, (ast.List, ast.Tuple, ast.Set)):
+            return [x.value for x in n.elts if isinstance(x, ast.Constant) and isinstance(x.value, str)]
+        if isinstance(n, ast.Dict):
+            return [k.value for k in n.keys if isinstance(k, ast.Constant) and isinstance(k.value, str)]
+        return []
+
+    for m in re.finditer(r"\$\(eval (.*?)\)[\"']", text):
+        expr = m.group(1).replace("&quot;", '"').replace("&apos;", "'").replace("&lt;", "<").replace("&gt;", ">") \
+            .replace("&amp;", "&")
+        try:
+            tree = ast.parse(expr.strip(), mode="eval")
+        except (SyntaxError, ValueError, RecursionError, MemoryError):
+            continue
+        for n in ast.walk(tree):
+            pairs = []
+            if isinstance(n, ast.Compare):
+                sides = [n.left] + list(n.comparators)
+                for a in sides:
+                    for b in sides:
+                        if a is not b and reads(a):
+                            pairs += [(reads(a), v) for v in strs(b)]
+            elif isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr in ("get", "index") \
+                    and n.args and reads(n.args[0]):
+                pairs += [(reads(n.args[0]), v) for v in strs(n.func.value)]
+            for name, v in pairs:
+                if name in cands and v != (defaults.get(name) or "") and (name, v) not in out and v.strip():
+                    out.append((name, v))
     return out
 
 
 # ------------------------------------------------------------------ roslaunch
 
-def make_stubs(ws: str, files: list[str], nproc: int) -> tuple[str, set[str]]:
+def make_stubs(ws: str, files: list[str], nproc: int, strings: bool = False,
+               stub_files: bool = False) -> tuple[str, set[str]]:
     """Empty packages (a package.xml) for the packages roslaunch cannot find when it loads the
     files with their defaults, until no more are missing (a stub's files do not exist, so
-    includes of them fail in both tools alike); ``xacro`` also gets a ``xacro`` program."""
+    includes of them fail in both tools alike); ``xacro`` also gets a ``xacro`` program.  With
+    ``stub_files``, the files the workspace names in them get stubs too (see ``stub_package_files``)."""
     import tempfile
     stub_dir = tempfile.mkdtemp(prefix="fidelity-stubs-")
     names: set[str] = set()
     for _ in range(4):
         jobs = [dict(file=f, args=a, package_path=ws + os.pathsep + stub_dir, commands="check")
-                for f in files for a in assignments(f)]
+                for f in files for a in assignments(f, strings)]
         missing = set()
         for r in oracle(jobs, nproc):
             if not r["ok"] and r["error"] == "ResourceNotFound":
@@ -147,7 +215,60 @@ def make_stubs(ws: str, files: list[str], nproc: int) -> tuple[str, set[str]]:
                 (d / "xacro").write_text("#!/bin/sh\necho '<robot name=\"stub\"/>'\n")
                 (d / "xacro").chmod(0o755)
         names |= missing
+        if stub_files:
+            stub_package_files(ws, files, stub_dir, names)
     return stub_dir, names
+
+
+_FIND_FILE = re.compile(r"\$\(find ([A-Za-z0-9_.-]+)\)/([^\s\"'<>$]+)")
+
+
+def stub_package_files(ws: str, files: list[str], stub_dir: str, names: set[str]) -> None:
+    """In the stub packages, the files the workspace's launch files name there (``$(find pkg)/rel``
+    without further substitutions): a launch file declaring, with an empty default, every arg
+    an ``<include>`` of the workspace passes to it; a YAML file holding ``{}``; any other file
+    empty.  Both tools then load what the workspace does with them (not what the real package
+    would do: its nodes and parameters are not there, alike for both)."""
+    from lxml import etree
+    wanted: dict[Path, set[str]] = {}
+    for f in files:
+        try:
+            text = Path(f).read_text(errors="replace")
+        except OSError:
+            continue
+        for m in _FIND_FILE.finditer(text):
+            pkg, rel = m.group(1), m.group(2)
+            # (a name completed by a substitution, $(find p)/launch/$(arg x).launch, is not known)
+            if pkg in names and ".." not in rel and "." in rel.rsplit("/", 1)[-1] and \
+                    not text.startswith("$", m.end()):
+                wanted.setdefault(Path(stub_dir) / pkg / rel, set())
+        try:
+            root = etree.fromstring(text.encode(), etree.XMLParser(resolve_entities=False, no_network=True,
+                                                                 recover=True))
+        except Exception:
+            continue
+        if root is None:
+            continue
+        for inc in root.iter("include"):
+            m = _FIND_FILE.fullmatch(inc.get("file", "").strip())
+            if m and m.group(1) in names and "." in m.group(2).rsplit("/", 1)[-1]:
+                target = wanted.setdefault(Path(stub_dir) / m.group(1) / m.group(2), set())
+                target.update(a.get("name") for a in inc if a.tag == "arg" and a.get("name")
+                              and "$" not in a.get("name"))
+    for path, args in sorted(wanted.items()):
+        if path.exists() or not path.resolve().is_relative_to(Path(stub_dir).resolve()):
+            continue
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError:
+            continue
+        if path.suffix in (".launch", ".xml", ".test"):
+            path.write_text("<launch>\n" + "".join(f'  <arg name="{a}" default=""/>\n' for a in sorted(args))
+                            + "</launch>\n")
+        elif path.suffix in (".yaml", ".yml"):
+            path.write_text("{}\n")
+        else:
+            path.write_text("")
 
 
 def oracle(jobs: list[dict], nproc: int) -> list[dict]:
@@ -219,6 +340,29 @@ def _eq(rl, tv) -> bool:
     return type(rl) is type(tv) and rl == tv
 
 
+_NAMES = re.compile(r"'([^']{2,})'|\[([^\]]{2,})\]|\"([^\"]{2,})\"")
+
+
+_TVL_PREFIX = re.compile(r"^(\$\(eval\) failed: \w+: |ResourceNotFound: |in the included file [^:]*: )")
+
+
+def same_cause(rl_message: str, tvl_message: str) -> bool:
+    """Whether two error messages name something in common (an arg, a file, a value in quotes or
+    brackets) -- a crude test that both tools fail for the same reason; the rest is read by hand."""
+    def names(m: str) -> set[str]:
+        out = set()
+        for g in _NAMES.findall(m):
+            for x in g:
+                if x:
+                    out.add(x.strip())
+                    out.add(os.path.basename(x.strip()))
+        return out - {"", "bool"}
+    a, b = names(rl_message), names(tvl_message)
+    flat = " ".join(rl_message.split())
+    core = " ".join(_TVL_PREFIX.sub("", tvl_message.strip()).split())[:60]
+    return bool(a & b) or " ".join(tvl_message.split()) in flat or (len(core) > 3 and core in flat)
+
+
 def _legacy_eq(rl, s) -> bool:
     """tvl-lsp before typed values printed every value as a string."""
     import yaml
@@ -270,6 +414,11 @@ def main() -> int:
                          "workspace, on ROS_PACKAGE_PATH for both tools; xacro with a stub 'xacro' program): "
                          "files that include or $(find) third-party packages then load, and their parameters "
                          "compare")
+    ap.add_argument("--stub-files", action="store_true",
+                    help="with --stub-missing: also stub the files the workspace names in stub packages (launch "
+                         "files declaring the args passed to them, empty YAML), so that more runs load in both")
+    ap.add_argument("--strings", action="store_true",
+                    help="also run string variants: each string arg set to a value the file compares it with")
     ap.add_argument("-v", "--verbose", action="store_true")
     ns = ap.parse_args()
     if ns.fake_commands:
@@ -296,7 +445,7 @@ def main() -> int:
     pkg_path = ws
     stub_dir = None
     if ns.stub_missing:
-        stub_dir, names = make_stubs(ws, files, ns.jobs)
+        stub_dir, names = make_stubs(ws, files, ns.jobs, ns.strings, ns.stub_files)
         pkg_path = ws + os.pathsep + stub_dir
         os.environ["ROS_PACKAGE_PATH"] = stub_dir  # tvl-lsp launch: after the workspace, as rospack
         print(f"stub packages for {len(names)} packages missing from the workspace: {' '.join(sorted(names)[:30])}"
@@ -320,12 +469,12 @@ def main() -> int:
 
     jobs, meta = [], []
     for f in files:
-        for i, a in enumerate(assignments(f)):
+        for i, a in enumerate(assignments(f, ns.strings)):
             jobs.append(dict(file=f, args=a, package_path=pkg_path, commands="check", ws=ws))
             meta.append((f, "assign", i))
         for k, d in enumerate(check_errors.get(f, [])):
             if d.witness:
-                a = {x: "true" if v else "false" for x, v in d.witness.items()}
+                a = {x: ("true" if v else "false") if isinstance(v, bool) else str(v) for x, v in d.witness.items()}
                 jobs.append(dict(file=f, args=a, package_path=pkg_path, commands="check", ws=ws))
                 meta.append((f, "witness", k))
     rl = oracle([{k: v for k, v in j.items() if k != "ws"} for j in jobs], ns.jobs)
@@ -334,8 +483,9 @@ def main() -> int:
     print(f"tvl-lsp launch: {len(jobs)} runs ({time.time() - t0:.0f}s)")
 
     stats = dict(runs=0, both_ok=0, rl_ok_tvl_error=0, rl_fail_tvl_ok=0, rl_fail_tvl_ok_pkg=0,
-                 nodes_equal=0, params_equal=0, params_exact=0, paired_default_fail=0)
+                 nodes_equal=0, params_equal=0, params_exact=0, paired_default_fail=0, both_fail=0)
     findings = {"false_error_runs": [], "missed_runs": [], "node_diffs": [], "param_diffs": [],
+                "both_fail_other_cause": [],
                 "check_false_errors": [], "check_silent": [], "check_unverified": []}
     ok_by_file: dict[str, list] = {}
     default_result: dict[str, dict] = {}
@@ -357,6 +507,11 @@ def main() -> int:
             stats["rl_ok_tvl_error"] += 1
             findings["false_error_runs"].append(dict(file=rel, args=job["args"], tvl=terr[:300],
                                                      code=t.get("error_code")))
+        elif not r["ok"] and terr:
+            stats["both_fail"] += 1
+            if not same_cause(r["message"], terr):
+                findings["both_fail_other_cause"].append(dict(file=rel, args=job["args"], roslaunch=r["message"][:300],
+                                                              tvl=terr[:300], code=t.get("error_code")))
         elif not r["ok"] and not terr:
             if r["error"] == "ResourceNotFound":
                 stats["rl_fail_tvl_ok_pkg"] += 1
@@ -407,6 +562,8 @@ def main() -> int:
     print(f"  roslaunch loads, tvl-lsp errors:     {stats['rl_ok_tvl_error']}")
     print(f"  roslaunch fails, tvl-lsp loads:      {stats['rl_fail_tvl_ok']} "
           f"(+{stats['rl_fail_tvl_ok_pkg']} packages outside the workspace)")
+    print(f"  both fail:                           {stats['both_fail']} "
+          f"({len(findings['both_fail_other_cause'])} naming nothing in common: read them)")
     print(f"  both load:                           {stats['both_ok']}")
     print(f"    same nodes:                        {stats['nodes_equal']}")
     print(f"    same params (textfile/command by name): {stats['params_equal']}")

@@ -15,8 +15,8 @@ cube trial, which uses a pool of 2 processes):
 - ``cubes``: split on the 2 variables occurring most often, count the 4 cubes with d4 in a
   pool of 2 processes, sum.
 
-Prints one line per attempt (what, seconds, answer or "no answer"); bench/README.md keeps the
-figures.  ``--models`` default: ``/work/shared/models`` (``$TVL_LSP_MODELS`` overrides).
+Prints one line per attempt (what, seconds, answer or "no answer"); the figures are in
+docs/benchmarks/2026-11-23-linux-kernel-count.md.  ``--models`` default: ``/work/shared/models`` (``$TVL_LSP_MODELS`` overrides).
 """
 
 from __future__ import annotations

@@ -52,6 +52,14 @@ if "TVL_LSP_CACHE_DIR" not in os.environ:
     _CACHE = tempfile.mkdtemp(prefix="tvl-lsp-test-cache-")
     os.environ["TVL_LSP_CACHE_DIR"] = _CACHE
     atexit.register(shutil.rmtree, _CACHE, True)
+# ... and the secret that seals its entries (not the user's ~/.config/tvl-lsp/cache.key)
+if "TVL_LSP_CACHE_KEY_FILE" not in os.environ:
+    import atexit
+    import shutil
+    import tempfile
+    _KEYDIR = tempfile.mkdtemp(prefix="tvl-lsp-test-key-")
+    os.environ["TVL_LSP_CACHE_KEY_FILE"] = os.path.join(_KEYDIR, "cache.key")
+    atexit.register(shutil.rmtree, _KEYDIR, True)
 _SHARED_PREFIXES = tuple(sorted({os.path.join(str(p), "") for p in
                                  (REPO.parent / "shared", (REPO.parent / "shared").resolve())}))
 _guard_item: "pytest.Item | None" = None
@@ -137,7 +145,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
 def pytest_report_header(config: pytest.Config) -> str:
     corpus = corpus_option(config)
-    return f"corpus: {corpus}" if corpus else "corpus: none (tests marked `corpus` deselected; --corpus DIR runs them)"
+    return f"corpus: {corpus}" if corpus else "corpus: none (tests marked `corpus` deselected; --corpus=DIR runs them)"
 
 
 @pytest.fixture(scope="session")

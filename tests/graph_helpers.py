@@ -48,12 +48,20 @@ nodes:
 """
 
 
-def turtlerand_ws(tmp_path: Path) -> Path:
-    """A copy of examples/ws whose project file has the hints of every turtlerand node."""
+PAIRING = """project: turtlerand
+configurations:
+  {lf: turtlerand/launch/generic.launch, tvl: turtlerand/launch/generic.tvl}
+"""
+
+
+def turtlerand_ws(tmp_path: Path, hints: str = TURTLERAND_HINTS) -> Path:
+    """A copy of examples/ws without its sources (what the nodes use comes from hints only) whose
+    project file has the hints of every turtlerand node."""
     dst = tmp_path / "turtlerand_ws"
     shutil.copytree(EXAMPLES_WS, dst)
-    pf = dst / "haros.yaml"
-    pf.write_text(pf.read_text() + TURTLERAND_HINTS)
+    shutil.rmtree(dst / "src" / "turtlerand" / "src")
+    (dst / "src" / "turtlerand" / "CMakeLists.txt").unlink()
+    (dst / "haros.yaml").write_text(PAIRING + hints)
     return dst
 
 

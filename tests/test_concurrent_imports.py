@@ -35,7 +35,7 @@ def test_hosts_import_the_core_before_starting_threads(host, tmp_path):
             "tvl_lsp.analysis.formats", "tvl_lsp.project.generate", "tvl_lsp.project.graph",
             "tvl_lsp.configurator.pool", "tvl_lsp.tvl.format", "tvl_lsp.launch.ros2.schema"]
     if host == "lsp":
-        make = "from tvl_lsp.lsp.server import create_server; create_server()"
+        make = "from tvl_lsp.server import create_server; create_server()"
     else:
         (tmp_path / "m.tvl").write_text("root M { opt A; }\n")
         make = ("import threading; threading.Thread.start = lambda self: None; "

@@ -97,6 +97,9 @@ def test_everything_reported(diags, rel):
         (CB, 26, "env-not-set"),
         (CB, 27, "env-not-set"),
         (CB, 79, "unset-arg"),
+        # the product {Turtlerand, Turtlesim}: turtlesim listens on /turtle1/cmd_vel and nothing
+        # publishes there (random_controller's and multiplexer's sources, haros.yaml's hints)
+        (TR, 10, "topic-without-publisher"),
         ("src/turtlerand/launch/generic_alt.tvl", 10, "infix-and-or"),
         ("src/turtlerand/launch/generic_alt.tvl", 11, "infix-and-or"),
         # checked alone (no model): its feature args have no default, so roslaunch run with the

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from tvl_lsp.lsp.features import commands as server_commands
+from tvl_lsp.lsp.features import commands as server_commands, explain
 from tvl_lsp.lsp.checks import file_kind
 from tvl_lsp.lsp.settings import Settings
 
@@ -77,7 +77,7 @@ def test_diagnostic_severity_values_match_the_server():
 
 def test_the_clients_call_server_commands_that_exist():
     server = {server_commands.INCLUDE, server_commands.EXCLUDE, server_commands.RESET,
-              server_commands.COUNT, server_commands.LIST, server_commands.GENERATE}
+              server_commands.COUNT, server_commands.LIST, server_commands.GENERATE, explain.EXPLAIN}
     src = (EXT / "src" / "extension.ts").read_text()
     called = set(re.findall(r"'(tvl-lsp\.[A-Za-z]+)'", src)) - {"tvl-lsp.running", "tvl-lsp.server"}
     assert called, "extension.ts calls no server command"
@@ -96,6 +96,27 @@ def test_launch_and_model_extensions_are_files_the_server_analyses():
     assert set(exts) == {".tvl", ".launch", ".launch.xml", "_launch.xml", ".test"}
     for e in exts:
         assert file_kind(f"/ws/src/pkg/launch/generic{e}") in ("tvl", "launch"), e
+
+
+def test_vscode_selects_python_launch_files():
+    """ROS 2 Python launch files reach the server (a python selector: by name, or every Python
+    file -- the nodes' sources are read too --; the Python extension keeps them all), are
+    watched, and a workspace that has them activates the extension.  The server analyses them
+    as launch files, and no other Python file as one."""
+    src = (EXT / "src" / "extension.ts").read_text()
+    selectors = re.findall(r"\{ scheme: 'file', language: 'python'(?:, pattern: '([^']*)')? \}", src)
+    assert selectors, "no document selector for Python files"
+    assert any(p == "" or {".launch.py", "_launch.py"} <= set(re.search(r"\{([^}]*)\}", p).group(1).split(","))
+               for p in selectors), selectors
+    call = src[src.index("createFileSystemWatcher("):]
+    watched = "".join(re.findall(r"'([^']*)'", re.sub(r"//[^\n]*", "", call[: call.index(");")])))
+    for suffix in (".launch.py", "_launch.py"):
+        assert file_kind(f"/ws/src/pkg/launch/robot{suffix}") == "launch"
+        assert f"*{suffix}" in watched or "*.py" in watched
+        assert f"workspaceContains:**/*{suffix}" in PACKAGE["activationEvents"]
+    for plain in ("/ws/src/pkg/pkg/util.py", "/ws/src/pkg/setup.py", "/ws/src/pkg/launch/helpers.py"):
+        assert file_kind(plain) != "launch"
+    assert "onLanguage:python" not in PACKAGE["activationEvents"]
 
 
 def test_neovim_filetypes_reach_the_lsp_config():
@@ -119,10 +140,30 @@ def test_pre_commit_hook():
     assert hook["language"] == "python"
     files = re.compile(hook["files"])
     for yes in ["src/lizi/launch/generic.tvl", "src/lizi/launch/generic.launch", "launch/a.launch.xml",
-                "test/nav.test", "haros_lizi.yaml", "ws/haros.yml"]:
+                "test/nav.test", "haros_lizi.yaml", "ws/haros.yml", "models/robot.uvl", "models/linux.dimacs",
+                "launch/robot.launch.yaml", "launch/robot_launch.xml", "launch/robot_launch.yaml",
+                "launch/robot.launch.py", "launch/robot_launch.py"]:
         assert files.search(yes), yes
-    for no in ["src/lizi/package.xml", "config/params.yaml", "CMakeLists.txt", "a.tvl.bak"]:
+    for no in ["src/lizi/package.xml", "config/params.yaml", "CMakeLists.txt", "a.tvl.bak", "my.cnf",
+               "setup.py", "scripts/launch.py", "launch/robot.launch.bak", "urdf/robot.xml"]:
         assert not files.search(no), no
+
+
+def test_pre_commit_hook_covers_every_suffix_the_front_ends_read():
+    """Every file name the front ends and --check's folder walk take (launch/dialects.py's launch
+    suffixes, the model formats, rostest files, ROS 2 Python launch files) is one the hook passes."""
+    from tvl_lsp.analysis.formats import MODEL_SUFFIXES
+    from tvl_lsp.launch import dialects
+    from tvl_lsp.project import workspace
+    hook = next(h for h in yaml.safe_load((REPO / ".pre-commit-hooks.yaml").read_text())
+                if h["id"] == "tvl-lsp-check")
+    files = re.compile(hook["files"])
+    python = [v for k, v in vars(dialects).items() if "PY" in k.upper() and "SUFFIX" in k.upper()]
+    suffixes = (set(dialects.LAUNCH_SUFFIXES) | set(workspace.LAUNCH_SUFFIXES) | set(MODEL_SUFFIXES)
+                | set(workspace.MODEL_SUFFIXES) | {".test", ".launch.py", "_launch.py"}
+                | {s for v in python for s in (v if isinstance(v, tuple) else (v,))})
+    missed = sorted(s for s in suffixes if not files.search(f"src/pkg/launch/robot{s}"))
+    assert not missed, f"the pre-commit hook's files pattern misses {missed}"
 
 
 NODE_MISSING = ("needs Node.js >= 20 and editors/vscode/node_modules: cd editors/vscode && npm ci "
@@ -141,6 +182,7 @@ def test_textmate_grammar_tests():
     assert proc.stdout.count("run successfuly") == len(list((EXT / "test" / "grammar").glob("*.*")))
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 @pytest.mark.skipif(not _node_ready() or not (EXT / "out" / "extension.js").is_file(),
                     reason=NODE_MISSING + "; and the built extension (npm run package)")
 def test_vscode_client_finds_the_server_or_says_why():

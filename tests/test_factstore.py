@@ -81,17 +81,20 @@ def _stored_file(cache: Path) -> Path:
     return f
 
 
-def _rewrite(f: Path, change) -> None:
-    """Change the payload and recompute a matching checksum (a file that is sound as a file,
-    yet says something impossible)."""
-    head, payload = f.read_bytes().split(b"\n", 1)
+def _rewrite(f: Path, change, reseal: bool = True) -> None:
+    """Change the payload and recompute a matching checksum; ``reseal``: and the cache's seal
+    (which needs the secret: a file that is sound as a file, yet says something impossible),
+    else the seal is left as it was (a forger without the secret)."""
+    seal, inner = f.read_bytes().split(b"\n", 1)
+    head, payload = inner.split(b"\n", 1)
     plain = json.loads(payload)
     change(plain)
     payload = json.dumps(plain).encode()
     h = json.loads(head)
     import hashlib
     h["size"], h["sha256"] = len(payload), hashlib.sha256(payload).hexdigest()
-    f.write_bytes(json.dumps(h).encode() + b"\n" + payload)
+    inner = json.dumps(h).encode() + b"\n" + payload
+    f.write_bytes(C.seal(f.name, inner) if reseal else seal + b"\n" + inner)
 
 
 DAMAGES = {
@@ -103,6 +106,9 @@ DAMAGES = {
     "negative count": lambda f: _rewrite(f, lambda p: p["per_feature"][0].__setitem__(1, "-1")),
     "not hexadecimal": lambda f: _rewrite(f, lambda p: p.__setitem__("total", "12 ")),
     "wrong types": lambda f: _rewrite(f, lambda p: p.__setitem__("core", {"a": 1})),
+    "forged, checksum recomputed, not sealed": lambda f: _rewrite(
+        f, lambda p: p.__setitem__("total", format(int(p["total"], 16) + 1, "x")), reseal=False),
+    "unsealed, as the previous version wrote it": lambda f: f.write_bytes(f.read_bytes().split(b"\n", 1)[1]),
     "other format": lambda f: f.write_bytes(f.read_bytes().replace(factstore.FORMAT.encode(), b"tvl-lsp-facts-0")),
     "json list": lambda f: f.write_bytes(b"[1, 2, 3]\n[]"),
 }

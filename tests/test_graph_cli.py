@@ -90,9 +90,9 @@ def test_explicit_project_file_and_legacy_name_hints(capsys, tmp_path):
     assert any("no hints for turtlesim/turtle_teleop_key in other.yaml" in n.get("note", "") for n in doc["nodes"])
 
 
-def test_unhinted_workspace_gives_nodes_with_notes(capsys):
-    from graph_helpers import EXAMPLES_WS
-    launch = EXAMPLES_WS / "src" / "turtlerand" / "launch" / "generic.launch"
+def test_unhinted_workspace_gives_nodes_with_notes(capsys, tmp_path):
+    ws = turtlerand_ws(tmp_path, hints="")
+    launch = ws / "src" / "turtlerand" / "launch" / "generic.launch"
     code, out, err = _run([str(launch)], capsys)
     assert code == 0, err
     doc = json.loads(out)

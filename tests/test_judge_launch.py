@@ -256,6 +256,7 @@ def _cases():
                 yield stem, lf, {**{k: _s(v) for k, v in p.items()}, **{n: _s(v) for n, v in zip(free, vals)}}
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 @needs_roslaunch
 def test_all_products_agree_with_roslaunch(diags):
     cases = list(_cases())
@@ -333,6 +334,7 @@ def test_sarif_is_valid_and_github_annotations(tmp_path):
                         r"title=[^:]+::", a) for a in anns), anns[:3]
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 def test_exit_codes_select_ignore_strict():
     good = str(LAUNCH / "good.launch")
     assert _cli(good).returncode == 0

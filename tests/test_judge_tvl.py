@@ -623,6 +623,7 @@ def _check(path, limit=20.0):
     return out.stdout
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 def test_cli_robustness(tmp_path):
     n = 10_000
     (tmp_path / "deep.tvl").write_text("root R { group allOf { " + "A { group allOf { " * n + "Z" + " } }" * n + " } }\n")
@@ -656,6 +657,7 @@ def test_too_deep_expression_is_not_encoded_nor_called_redundant():
     assert "constraint-not-encoded" in {d.code for d in a.encoding.diagnostics()}
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 def test_long_flat_and_or_chains_are_not_nesting():
     """`F0 || F1 || ... ` with 250 terms is valid TVL (the reference's LALR parser takes it); it was
     reported as nesting-too-deep (an error) and the encoder recursed on long `&&` chains."""

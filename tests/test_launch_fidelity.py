@@ -228,7 +228,10 @@ def test_an_arg_only_forwarded_and_required_below_is_reported():
 ])
 def test_free_args_follow_the_value_through_pass_all_args(tmp_path, child, free):
     (tmp_path / "child.launch").write_text(f'<launch><arg name="x" default="a"/>{child}</launch>')
-    main = '<launch><arg name="x" default="ompl"/><include file="$(dirname)/child.launch" pass_all_args="true"/></launch>'
+    # (a boolean default where x is a boolean: a default that is none is no free arg, below)
+    default = "false" if free else "ompl"
+    main = (f'<launch><arg name="x" default="{default}"/><include file="$(dirname)/child.launch" '
+            'pass_all_args="true"/></launch>')
     (tmp_path / "main.launch").write_text(main)
     assert free_top_args(main, str(tmp_path / "main.launch")) == free
     # and through an <arg> of the include

@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 from tvl_lsp.base.formula import FALSE, TRUE, Var, conj, evaluate, neg
+from tvl_lsp.base import formula as fm
 from tvl_lsp.base.diagnostics import CODES
 from tvl_lsp.launch import analyse_launch, check_launch, load_launch
 
@@ -62,10 +63,15 @@ def test_eval_conditions_translate_to_formulas():
 
 
 def test_unanalysable_eval_is_an_information_not_a_guess():
-    a = L('<node pkg="p" type="t" name="n" if="$(eval some.attribute)"/>')
+    a = L('<node pkg="p" type="t" name="n" if="$(eval some.attribute)"/>'
+          '<node pkg="p" type="t" name="n" unless="$(eval some.attribute)"/>')
     infos = facts(a, "condition-not-analysable")
-    assert len(infos) == 1 and infos[0].severity == 3
-    assert [n.condition for n in a.nodes] == [TRUE]
+    assert len(infos) == 2 and {f.severity for f in infos} == {3}   # one note on each value
+    # the node's condition is an unknown (neither always nor never loaded), the same one for
+    # both tags: if= and unless= of it exclude each other (no duplicate-node), no error
+    (u,) = {str(n.condition).lstrip("!") for n in a.nodes}
+    assert fm.is_unknown(u) and a.nodes[1].condition == neg(a.nodes[0].condition)
+    assert [f for f in a.facts if f.severity == 1] == []
 
 
 def test_invalid_condition_and_if_with_unless():
@@ -298,3 +304,55 @@ def test_load_launch_one_assignment():
     assert r.error_code == "duplicate-node" and "multiple nodes named [/worker]" in r.error
     r = load_launch(path, {"A": "false"}, packages=pk)
     assert r.error_code in ("undefined-arg", "unset-arg") and "'B'" in r.error
+
+
+# ---------------------------------------------------------------- unknowns (issue 27)
+
+def test_forall_unknowns_keeps_only_what_holds_whatever_they_are():
+    u, v = fm.unknown("1:x"), fm.unknown("2:y")
+    a = Var("a")
+    assert fm.forall_unknowns(conj([a, u])) == FALSE                 # only when the unknown is true
+    assert fm.forall_unknowns(fm.disj([conj([a, u]), conj([a, neg(u)])])) == a   # either way: certain
+    assert fm.forall_unknowns(conj([u, neg(u)])) == FALSE
+    assert fm.forall_unknowns(a) == a
+    many = fm.disj([fm.unknown(str(i)) for i in range(fm.MAX_UNKNOWNS + 1)] + [conj([a, v])])
+    assert fm.forall_unknowns(many) == FALSE                         # too many: never certain
+
+
+def test_variables_and_substitute_visit_a_shared_subformula_once():
+    """Conditions built by the walkers share subterms: a tree walk of 24 levels of sharing visits
+    2 ** 24 nodes (autoware's behavior_planning.launch.xml took 25 s before)."""
+    import time
+    f = Var("x0")
+    for i in range(1, 25):
+        f = fm.disj([conj([f, Var(f"x{i}")]), conj([f, neg(Var(f"x{i}"))])]) if i % 2 else \
+            conj([fm.disj([f, Var(f"x{i}")]), fm.disj([f, Var("u")])])
+    t = time.process_time()
+    assert len(fm.variables(f)) == 26
+    g = fm.substitute(f, {"u": TRUE})
+    assert "u" not in fm.variables(g)
+    assert time.process_time() - t < 2
+
+
+def test_eval_methods_are_bounded_and_sets_of_strings_are_sorted():
+    from tvl_lsp.launch import evalguard as guard
+    from tvl_lsp.launch.ros1 import subst as S
+    with pytest.raises(guard.TooBig):
+        guard.call_method("ab", "replace", ["a", "x" * 10 ** 5])
+    with pytest.raises(guard.NotAllowed):
+        guard.call_method([1], "append", [2])
+    with pytest.raises(AttributeError):
+        guard.call_method({}, "nope", [])
+    with pytest.raises(guard.Unordered):
+        guard.ordered([{"a", "b"}])
+    assert guard.ordered({1, 2}) == {1, 2}
+    run = lambda e, **args: S.run_eval(S.parse_eval(e), args, {})  # noqa: E731
+    assert run("{'iron': False}.get(arg('robot'), True)", robot="iron") == "False"
+    assert run("'a_b'.split('_')") == "['a', 'b']"
+    assert run("len(set(['a', 'b']))") == "2"
+    # a set of strings has no fixed order in Python: one, sorted, every run (what roslaunch gives
+    # in some runs; 'a' in ..., len(...) are what it gives in all)
+    assert run("list(set(['b', 'a']))") == "['a', 'b']" == run("list({'b', 'a'})")
+    assert run("str(set(['b', 'a'])) + ','.join(frozenset('ba'))") == "{'a', 'b'}a,b"
+    with pytest.raises(S.SubstError):
+        run("[1, 2].index(3)")             # ValueError, as roslaunch raises

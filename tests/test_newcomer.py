@@ -17,7 +17,7 @@ except ModuleNotFoundError:  # Python 3.10
     tomllib = None
 
 REPO = Path(__file__).resolve().parent.parent
-DOCS = [REPO / "README.md", REPO / "bench" / "README.md"]
+DOCS = [REPO / "README.md", REPO / "bench" / "README.md", REPO / "CONTRIBUTING.md", REPO / "docs" / "testing.md"]
 
 
 def _commands(path: Path) -> list[str]:
@@ -80,21 +80,25 @@ def test_bench_readme_scripts_exist():
 def test_non_editable_wheel_has_the_grammar_and_checks(tmp_path):
     """`pip install .` (not -e) builds a wheel: tvl_lsp/grammars is a symlink to ../grammars, and
     the grammar must be in the wheel for `tvl-lsp --check` to work from it."""
-    r = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps",
+    # built with the venv's own setuptools (the test extra brings setuptools>=77): no package index
+    try:
+        from importlib.metadata import version
+        if int(version("setuptools").split(".")[0]) < 77:
+            pytest.skip("setuptools < 77 in this venv: .venv/bin/pip install -e '.[test]' brings a newer one")
+    except Exception:
+        pytest.skip("no setuptools in this venv: .venv/bin/pip install -e '.[test]' brings it")
+    r = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "--no-index",
                         "--disable-pip-version-check", "-q", "-w", str(tmp_path / "dist"), str(REPO)],
                        capture_output=True, text=True, timeout=300)
-    if r.returncode != 0 and ("No matching distribution" in r.stderr or "Could not find a version" in r.stderr):
-        # no package index for the isolated build: build with the venv's own setuptools
-        r = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
-                            "--disable-pip-version-check", "-q", "-w", str(tmp_path / "dist"), str(REPO)],
-                           capture_output=True, text=True, timeout=300)
-        if r.returncode != 0 and "setuptools" in r.stderr:
-            pytest.skip("no package index and no setuptools in this venv (.venv/bin/pip install setuptools)")
     assert r.returncode == 0, r.stderr
     (wheel,) = (tmp_path / "dist").glob("tvl_lsp-*.whl")
     with zipfile.ZipFile(wheel) as z:
         names = z.namelist()
         assert "tvl_lsp/grammars/tvl.lark" in names, [n for n in names if "grammar" in n]
+        assert "tvl_lsp/data/diagnostics.md" in names, "the diagnostics catalogue (--explain, hovers)"
+        assert any(n.endswith(".dist-info/licenses/LICENSE") for n in names), "the licence file"
+        metadata = z.read(next(n for n in names if n.endswith(".dist-info/METADATA"))).decode()
+        assert "License-Expression: MIT" in metadata
         z.extractall(tmp_path / "site")
     env = dict(os.environ, PYTHONPATH=str(tmp_path / "site"))
     probe = ("import sys, tvl_lsp, tvl_lsp.main as c; assert tvl_lsp.__file__.startswith(sys.argv[1]), tvl_lsp.__file__;"
@@ -103,3 +107,10 @@ def test_non_editable_wheel_has_the_grammar_and_checks(tmp_path):
                        capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
     assert r.returncode == 0, r.stdout + r.stderr
     assert "constant-condition" in r.stdout
+    # --explain prints a code's whole page from the wheel's own catalogue (not the repository's)
+    probe = ("import sys, tvl_lsp, tvl_lsp.main as c; assert tvl_lsp.__file__.startswith(sys.argv[1]), tvl_lsp.__file__;"
+             " sys.exit(c.main(['--explain', 'missing-arg']))")
+    r = subprocess.run([sys.executable, "-c", probe, str(tmp_path / "site")],
+                       capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert r.stdout.startswith("## `missing-arg`") and "**Fix:**" in r.stdout and "```" in r.stdout, r.stdout

@@ -80,7 +80,9 @@ def test_a_special_file_named_on_the_command_line_says_why_it_is_not_checked(ws)
     link = ws / "zero.launch"
     os.symlink("/dev/zero", link)
     rc, diags, err = check(link)
-    assert "not checked: cannot be read: it is a character device" in err
+    # a diagnostic of the report (file-unreadable), not silence (issue 27, class 7)
+    assert rc == 1 and [d["code"] for d in diags] == ["file-unreadable"]
+    assert "zero.launch is not checked: cannot be read: it is a character device" in diags[0]["message"]
 
 
 def test_launch_includes_of_special_files(ws):

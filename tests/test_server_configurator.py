@@ -60,7 +60,10 @@ async def test_configurator_view_requests(client: LanguageClient):
     assert not r["ok"] and r["refused"]["conflictsWith"] == {"Random": True}
     assert "Vel is mandatory in Random" in r["refused"]["message"]
     p = await view("problems")
-    assert [x["code"] for x in p["problems"]] == ["constant-condition"]
+    # the graph's finding (a product with turtlesim alone: nothing publishes /turtle1/cmd_vel) is
+    # excluded once Random is decided; the constant condition stays
+    assert [x["code"] for x in p["problems"]] == ["topic-without-publisher", "constant-condition"]
+    assert p["status"][p["problems"][0]["id"]] == "excluded"
     r = await view("decide", {"feature": "Multiplexer", "value": False})
     assert r["state"]["complete"]
     g = await view("generate", {"mode": "current"})
@@ -73,3 +76,35 @@ async def test_configurator_view_requests(client: LanguageClient):
         await view("decide", {"feature": "Nope", "value": True})
     r = await view("reset")
     assert r["state"]["decisions"] == {} and (await run("tvl-lsp.count"))["remaining"] == 4
+
+
+async def test_configurator_view_configurations(client: LanguageClient):
+    """The requests added for issue 29 through the server: why a feature is implied, decisions
+    replaced and completed, a configuration saved next to the model (written by the editor or the
+    server) and loaded back, the launch files a model could configure, the panel closed."""
+    model = client.ws / "src/turtlerand/launch/generic.tvl"
+    uri = open_doc(client, model)
+
+    async def view(op, params=None):
+        return await asyncio.wait_for(client.workspace_execute_command_async(types.ExecuteCommandParams(
+            command="tvl-lsp.configurator", arguments=[uri, op, params or {}])), 120)
+
+    await view("reset")
+    x = await view("explain", {"feature": "Turtlesim"})
+    assert x["implied"] and "Turtlesim is mandatory in Turtlerand" in x["text"]
+    r = await view("set", {"decisions": {"Random": True}})
+    assert r["ok"] and r["state"]["decisions"] == {"Random": True}
+    x = await view("explain", {"feature": "Vel"})
+    assert x["text"] == "included because you included Random: Vel is mandatory in Random"
+    saved = await view("save", {"name": "lab", "format": "json"})
+    path = Path(saved["written"][0])
+    assert path == model.parent / "lab.config.json" and '"Random": true' in path.read_text()
+    r = await view("complete", {"how": "minimal"})
+    assert r["state"]["complete"] and r["added"] == {"Teleop": False, "Multiplexer": False}
+    r = await view("load", {"path": str(path)})
+    assert r["state"]["decisions"] == {"Random": True}
+    assert [f["name"] for f in (await view("configs"))["files"]] == ["lab.config.json"]
+    got = await view("launches")
+    assert got["candidates"][0]["relative"] == "src/turtlerand/launch/generic.launch"
+    assert (await view("close"))["stopped"] >= 0
+    await view("reset")

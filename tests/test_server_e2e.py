@@ -85,9 +85,11 @@ async def test_hover_on_scout_root_shows_1152(client: LanguageClient):
 
 
 async def test_main_rejects_bad_arguments(capsys):
-    from tvl_lsp.lsp.server import main
+    from tvl_lsp.server import main, serve
     assert main(["--tcp", "localhost:notaport"]) == 2
     assert main(["--bogus"]) == 2
+    assert serve(tcp="localhost:notaport") == 2
+
 
 
 

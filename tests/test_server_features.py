@@ -10,7 +10,7 @@ import pytest_lsp
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 
-from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, diagnostics,
+from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, diagnostics, edits_by_uri,
                             install_client_handlers, open_doc, position_of, start)
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -83,9 +83,9 @@ async def test_rename_feature_updates_model_and_launch_file(client: LanguageClie
     assert prep is not None
     edit = await client.text_document_rename_async(types.RenameParams(
         text_document=tdi(client.tvl_uri), position=pos, new_name="Lidar"))
-    new_model = apply_text_edits(model, edit.changes[client.tvl_uri])
+    new_model = apply_text_edits(model, edits_by_uri(edit)[client.tvl_uri])
     launch = client.scout_launch.read_text()
-    new_launch = apply_text_edits(launch, edit.changes[client.launch_uri])
+    new_launch = apply_text_edits(launch, edits_by_uri(edit)[client.launch_uri])
     assert "Laser" not in new_model and new_model.count("Lidar") == model.count("Laser")
     assert "Laser" not in new_launch and '<arg name="Lidar"/>' in new_launch and "$(arg Lidar)" in new_launch
 
@@ -285,3 +285,32 @@ async def test_watched_model_change_on_disk_rechecks_the_open_launch_file(client
         mpath.write_text(original)
         client.workspace_did_change_watched_files(types.DidChangeWatchedFilesParams(changes=[
             types.FileEvent(uri=mpath.as_uri(), type=types.FileChangeType.Changed)]))
+
+
+async def test_hover_on_a_diagnostic_shows_its_codes_page(client: LanguageClient):
+    """The hover inside a diagnostic's range carries its code's page from the catalogue the
+    package ships (what --explain prints), and tvl-lsp.explain returns a page or the list."""
+    from tvl_lsp.base.catalogue import section
+    path = client.ws / "src/turtlerand/launch/explain_probe.launch"
+    text = '<launch>\n  <node pkg="p" type="t" name="n" if="true" unless="false"/>\n</launch>\n'
+    path.write_text(text)
+    uri = open_doc(client, path, text)
+    ds = await diagnostics(client, uri, lambda ds: "if-and-unless" in codes(ds))
+    (d,) = [d for d in ds if d.code == "if-and-unless"]
+    v = await hover_text(client, uri, d.range.start, "if-and-unless")
+    assert "**`if-and-unless`** (error)" in v
+    assert "cannot set both 'if' and 'unless' on the same tag" in v and "**Fix:**" in v
+    # outside every diagnostic's range: no page
+    h = await client.text_document_hover_async(types.HoverParams(
+        text_document=tdi(uri), position=types.Position(line=2, character=2)))
+    assert h is None or "**Fix:**" not in h.contents.value
+    page = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+        command="tvl-lsp.explain", arguments=["if-and-unless"]))
+    assert page["markdown"] == section("if-and-unless") and page["severity"] == "error"
+    listing = await client.workspace_execute_command_async(types.ExecuteCommandParams(
+        command="tvl-lsp.explain", arguments=[]))
+    assert {"code": "if-and-unless", "severity": "error"}.items() <= next(
+        c for c in listing["codes"] if c["code"] == "if-and-unless").items()
+    with pytest.raises(Exception, match="unknown diagnostic code"):
+        await client.workspace_execute_command_async(types.ExecuteCommandParams(
+            command="tvl-lsp.explain", arguments=["if-and-unles"]))

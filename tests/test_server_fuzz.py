@@ -207,6 +207,7 @@ def _check_campaign(seed: int, edits: int, strict_latency: bool) -> dict:
     return s
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 def test_a_short_campaign_of_edits_requests_and_malformed_messages():
     """150 edits (~20 s with the server's start): the fuzz judge's thresholds."""
     _check_campaign(seed=12, edits=150, strict_latency=False)

@@ -103,6 +103,7 @@ def _params(method: str, uri: str, line: int, ch: int) -> dict:
     return p
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 def test_lone_surrogates_never_make_a_request_fail_and_positions_stay_exact(server, tmp_path):
     server.initialize(tmp_path)
     text = json.loads((DATA / "surrogate.launch.json").read_text())["text"]
@@ -213,6 +214,7 @@ def test_hover_and_definition_answer_within_2_s_during_a_long_analysis(server, t
 
 # ------------------------------------------------------------------ deliberate errors, stale decisions
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 def test_a_deliberate_error_answer_is_not_logged_as_a_crash(server, tmp_path):
     """Found by bench/bench_server_fuzz.py: every -32602 a handler raises on purpose (nothing to
     rename, an invalid new name, an unknown command) left a traceback on stderr, as a crash
@@ -231,6 +233,7 @@ def test_a_deliberate_error_answer_is_not_logged_as_a_crash(server, tmp_path):
     assert b"Traceback" not in err, err.decode(errors="replace")
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 def test_decisions_on_features_an_edit_removed_are_refused_not_an_internal_error(server, tmp_path):
     """Found by bench/bench_server_fuzz.py: the configurator keeps its decisions while the model
     is edited; once a decided feature was gone, listing products or generating configurations

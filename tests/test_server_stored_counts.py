@@ -134,6 +134,7 @@ async def test_a_stored_file_of_another_text_is_not_used(tmp_path):
         await second.shutdown_session()
 
 
+@pytest.mark.slow  # end to end, several seconds: CI's slow stage (.ci/run) runs it
 @pytest.mark.parametrize("damage", ["garbage", "truncated", "foreign"])
 async def test_damaged_or_foreign_stored_facts_are_ignored(tmp_path, damage):
     ws = tmp_path / "ws"

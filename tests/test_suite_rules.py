@@ -96,3 +96,23 @@ def test_skip_reasons_say_how_to_install_the_program():
     how = re.compile(r"apt-get install|pip install|npm ci|ci_editors\.sh|MISSING|--models")
     bad = [(f, r) for f, r in reasons if not how.search(r)]
     assert not bad, bad
+
+
+def test_testing_doc_tells_the_size_of_the_default_suite_and_its_markers(request):
+    """docs/testing.md says "about N tests" of the default suite and how to run each marker of
+    pyproject.toml.  The size is compared (within 15 %) when this run collected the whole default
+    suite; a run of a few files collects fewer and leaves it to the full run."""
+    doc = (REPO / "docs" / "testing.md").read_text(encoding="utf-8")
+    markers = re.findall(r'^\s*"(\w+):', (REPO / "pyproject.toml").read_text(encoding="utf-8"), re.M)
+    assert {"slow", "fuzz", "vscode", "corpus"} <= set(markers), markers
+    for name in markers:
+        assert f"-m {name}" in doc, f"docs/testing.md does not say how to run the {name} tests"
+    m = re.search(r"about ([\d,]+) tests", doc)
+    assert m, "docs/testing.md does not say how many tests the default suite has"
+    said = int(m.group(1).replace(",", ""))
+    files = {Path(str(item.path)).name for item in request.session.items}
+    every = {p.name for p in (REPO / "tests").glob("test_*.py")}
+    if len(files) < 0.9 * len(every) or request.config.getoption("markexpr") != "not slow and not vscode and not fuzz":
+        return  # not the whole default suite
+    ran = len(request.session.items)
+    assert abs(ran - said) <= 0.15 * ran, f"docs/testing.md says about {said} tests; the default suite has {ran}"

@@ -224,3 +224,59 @@ def test_cli_errors(tmp_path):
     r = subprocess.run([sys.executable, "-m", "tvl_lsp", "ui", str(tmp_path / "missing"), "--no-browser"],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and "does not exist" in r.stderr
+
+
+def _descendants(pid: int) -> dict[int, str]:
+    """Every process below ``pid`` (from /proc, as on the Linux machines ROS runs on): pid ->
+    command line."""
+    parent: dict[int, int] = {}
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                with open(f"/proc/{d}/stat") as fh:
+                    parent[int(d)] = int(fh.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, ValueError, IndexError):
+                pass
+    out, todo = {}, [pid]
+    while todo:
+        p = todo.pop()
+        for c, pp in parent.items():
+            if pp == p and c not in out:
+                try:
+                    with open(f"/proc/{c}/cmdline", "rb") as fh:
+                        out[c] = fh.read().replace(b"\0", b" ").decode(errors="replace")
+                except OSError:
+                    out[c] = "?"
+                todo.append(c)
+    return out
+
+
+def test_sigterm_leaves_no_child_process(tmp_path):
+    """Stopped while d4 compiles a big model and the problems are checked in a worker process:
+    the compilation, the worker and multiprocessing's semaphore tracker all end with the server
+    (and are reaped: no zombie left where no init reaps orphans)."""
+    from model_gen import generated_model
+    d = tmp_path / "ws" / "src" / "big" / "launch"
+    d.mkdir(parents=True)
+    (tmp_path / "ws" / ".catkin_workspace").write_text("")
+    (d / "big.tvl").write_text(generated_model(1500, seed=1))
+    env = dict(os.environ, TVL_LSP_CACHE_DIR=str(tmp_path / "cache"))
+    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "ui", str(d / "big.tvl"), "--no-browser"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        assert proc.stdout.readline().startswith("http://127.0.0.1:")
+        # the server checks the model in a worker process and compiles it with d4 from the start
+        deadline = time.monotonic() + 30
+        kids = _descendants(proc.pid)
+        while not any("counting.d4" in c for c in kids.values()) and time.monotonic() < deadline:
+            time.sleep(0.02)
+            kids.update(_descendants(proc.pid))
+        proc.send_signal(signal.SIGTERM)
+        assert proc.wait(timeout=30) == 0
+        time.sleep(0.3)
+        left = {p: c for p, c in kids.items() if os.path.exists(f"/proc/{p}")}
+        assert left == {}, left
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()

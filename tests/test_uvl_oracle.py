@@ -1,16 +1,18 @@
 """Differential tests against uvlparser 2.5.0, the UVL community's parser.
 
-uvlparser is no dependency (it installs a top-level ``main.py`` into site-packages).  Its verdicts on
-our fixtures are recorded in tests/data/uvl/uvlparser_verdicts.json and checked here every time;
-when it can be installed into a private folder (``pip install --target``, or a folder given as
-``UVLPARSER_TARGET``), it is also run live, in a subprocess, on the fixtures and on the UVL that
-``tvl-lsp convert`` writes for our TVL fixtures (which it must accept).
+uvlparser is no dependency of tvl-lsp nor of the ``test`` extra (it installs top-level ``main.py``
+and ``uvl/`` into site-packages): it is the ``uvl-oracle`` extra.  Its verdicts on our fixtures
+are recorded in tests/data/uvl/uvlparser_verdicts.json and checked here every time; when it is
+installed (``pip install -e '.[uvl-oracle]'``, as ``.ci/run`` does, or a folder with its
+``main.py`` given as ``UVLPARSER_TARGET``) it is also run live, in a subprocess, on the fixtures
+and on the UVL that ``tvl-lsp convert`` writes for our TVL fixtures (which it must accept).
 """
 
 from __future__ import annotations
 
 import json
 import os
+from importlib import metadata
 import subprocess
 import sys
 from pathlib import Path
@@ -60,21 +62,19 @@ for p in sys.argv[2:]:
 
 
 @pytest.fixture(scope="session")
-def uvlparser(tmp_path_factory):
+def uvlparser():
+    """The folder that holds uvlparser's top-level ``main.py``: ``UVLPARSER_TARGET``, else the
+    installed ``uvl-oracle`` extra.  Nothing is installed during the run."""
     target = os.environ.get("UVLPARSER_TARGET")
     if target and (Path(target) / "main.py").is_file():
         return target
-    target = str(tmp_path_factory.mktemp("uvlparser"))
     try:
-        p = subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--disable-pip-version-check",
-                            "--target", target, "uvlparser==2.5.0"], capture_output=True, text=True, timeout=240)
-    except (subprocess.TimeoutExpired, OSError) as ex:
-        pytest.skip(f"uvlparser: pip install --target DIR uvlparser==2.5.0 failed ({ex}); "
-                    "set UVLPARSER_TARGET to such a folder")
-    if p.returncode != 0 or not (Path(target) / "main.py").is_file():
-        pytest.skip("uvlparser: pip install --target DIR uvlparser==2.5.0 failed (no network?); "
-                    "set UVLPARSER_TARGET to such a folder")
-    return target
+        main = Path(str(metadata.distribution("uvlparser").locate_file("main.py")))
+    except metadata.PackageNotFoundError:
+        main = None
+    if main is None or not main.is_file():
+        pytest.skip("uvlparser 2.5.0 is not installed: .venv/bin/pip install -e '.[uvl-oracle]' (the UVL community's parser)")
+    return str(main.parent)
 
 
 def run_oracle(target: str, paths: list[Path]) -> list[str]:

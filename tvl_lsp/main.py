@@ -16,6 +16,8 @@ usage:
                                     configuration launch files for products of the model
   tvl-lsp graph LAUNCH [--include F]... [--exclude F]... [--format json|dot|mermaid]
                                     the computation graph of every product at once (docs/graph.md)
+  tvl-lsp extract PATH... [--json]  each program's topics, services, actions and parameters,
+                                    read from the C++ and Python sources of its package
   tvl-lsp ui [PATH] [--port N] [--no-browser]
                                     the configurator (feature diagram, computation graph,
                                     problems) in the browser, on 127.0.0.1
@@ -39,6 +41,7 @@ SUBCOMMANDS = {
     "graph": "tvl_lsp.cli.commands.graph",
     "ui": "tvl_lsp.ui.command",
     "convert": "tvl_lsp.cli.commands.convert",
+    "extract": "tvl_lsp.cli.commands.extract",
 }
 
 
@@ -51,7 +54,7 @@ def _run(module: str, argv: list[str]) -> int:
 # interpreter's teardown (freeing millions of objects one by one doubled the CPU time of a
 # check of a 200,000-feature model); their output is flushed first and they hold no
 # resources that need atexit handlers
-_ONE_SHOT = ("count", "sample", "launch", "generate", "check", "graph", "convert")
+_ONE_SHOT = ("count", "sample", "launch", "generate", "check", "graph", "convert", "extract")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -61,6 +64,9 @@ def main(argv: list[str] | None = None) -> int:
     if from_console and one_shot and ("--check" in argv or argv[0] == "check"):
         from .project import check
         check.KEEP_LAST = True  # the last file's models are left for os._exit to drop
+    if from_console and one_shot:
+        from .base.children import terminate_on_sigterm
+        terminate_on_sigterm()  # SIGTERM ends it like Ctrl-C: temporary files removed, children killed
     code = _main(argv)
     if from_console and one_shot:
         _exit_now(code)
@@ -92,8 +98,10 @@ def _main(argv: list[str]) -> int:
         if argv and argv[0] in ("-h", "--help"):
             print(__doc__)
             return 0
-        return _run("tvl_lsp.lsp.server", argv)
+        return _run("tvl_lsp.server", argv)
     except KeyboardInterrupt:
+        from .base.children import kill_all
+        kill_all()
         return 130
     except BrokenPipeError:
         return 0

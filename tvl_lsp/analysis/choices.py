@@ -34,8 +34,7 @@ from ..base.diagnostics import Diagnostic, Related, Severity, register
 
 CHOICE_MISMATCH = register(
     "choice-mismatch", Severity.WARNING,
-    "An <arg> with <choice> values does not match the alternatives or enumeration of the model it pairs with "
-    "(ROS 2)", "cross")
+    "An <arg> with <choice> values does not match the alternatives or enumeration of its model (ROS 2).", "cross")
 
 
 @dataclass

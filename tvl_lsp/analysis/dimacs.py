@@ -297,9 +297,9 @@ def read_dimacs(text: str, path: str = "model.dimacs"):
     from ..base.diagnostics import Diagnostic, Related, Severity, register
     errors: list = []
     model = dimacs_to_model(text, path, errors)
-    syntax = register("syntax-error", Severity.ERROR, "the text does not follow the TVL grammar", "tvl")
-    dup = register("duplicate-feature-name", Severity.ERROR, "two features of a UVL model have the same name", "uvl")
-    too_large = register("file-too-large", Severity.ERROR, "a file too large to analyse", "tvl")
+    syntax = register("syntax-error", Severity.ERROR, "The text does not follow the grammar of the model's language.", "tvl")
+    dup = register("duplicate-feature-name", Severity.ERROR, "Two features of a UVL model have the same name.", "uvl")
+    too_large = register("file-too-large", Severity.ERROR, "A file too large to analyse.", "tvl")
     diags = [Diagnostic(too_large if e[4:] == ("file-too-large",) else syntax, Severity.ERROR, path,
                         Span(Pos(e[0], e[1]), Pos(e[0], e[2])), e[3]) for e in errors]
     first: dict[str, M.Feature] = {}

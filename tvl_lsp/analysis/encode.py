@@ -50,7 +50,7 @@ from .labels import line_text, source_text  # noqa: F401 (source_text: used from
 
 CONSTRAINT_NOT_ENCODED = register(
     "constraint-not-encoded", Severity.INFORMATION,
-    "a constraint needs reals, unbounded integers or too large a domain: the analyses ignore it",
+    "A constraint needs reals, unbounded integers or too large a domain: the analyses ignore it.",
     "analysis")
 
 # the direct (one-hot) encoding of integer terms gives up beyond this many value pairs

@@ -8,6 +8,7 @@
     a.feature_counts()                       # -> {feature name: number of products with it}
     a.feature_counts_result(include, exclude)  # -> FeatureCounts (one pass over the d-DNNF)
     a.sample(t=2) / a.sample(uniform=10, seed=1)  # -> ([{name: bool}], engine)
+    a.twise_sample(t=3, budget=60)            # -> ([{name: bool}], SampleResult: complete, coverage)
     a.find_product(formula, include, exclude, smallest=True)  # -> {name: bool} | None
     a.propagate({"Kobuki": True, "Teleop": False})            # -> Propagation
     for product in a.enumerate(limit=100): ...                # -> {name: bool}
@@ -28,26 +29,25 @@ from ..base.diagnostics import Diagnostic, Related, Severity, register
 from ..tvl import model as M
 from ..base import formula as fm
 from .configure import propagate as _propagate
-from .counting.errors import CancelLike, CountTimeout, EngineFailed
+from .counting.errors import CancelLike, CountCancelled, CountTimeout
 from .counting.service import CNFCounter, Count, FeatureCounts
 from .encode import Element, Encoding, encode
 from .solve import Analyzer, Explanation, products, smallest_product
 
 VOID_MODEL = register("void-model", Severity.ERROR,
-                      "the feature model has no product: no selection of features satisfies it", "analysis")
+                      "The feature model has no product: no selection of features satisfies it.", "analysis")
 DEAD_FEATURE = register("dead-feature", Severity.WARNING,
-                        "a feature that no product can select", "analysis")
+                        "A feature that no product can select.", "analysis")
 MIN_DETECTION = 2.0  # seconds the search for dead / false-optional features gets at least
 ANOMALY_BUDGET = register("anomaly-budget", Severity.INFORMATION,
-                          "the search for dead and false-optional features ran out of its time budget", "analysis")
+                          "The search for dead and false-optional features ran out of its time budget.", "analysis")
 FALSE_OPTIONAL = register("false-optional", Severity.WARNING,
-                          "an optional feature that is selected in every product that selects its parent",
+                          "An optional feature that is selected in every product that selects its parent.",
                           "analysis")
 REDUNDANT_CONSTRAINT = register("redundant-constraint", Severity.INFORMATION,
-                                "a constraint already implied by the rest of the model", "analysis")
+                                "A constraint already implied by the rest of the model.", "analysis")
 ALWAYS_FALSE_CONSTRAINT = register("always-false-constraint", Severity.ERROR,
-                                   "a constraint that no selection of features allowed by the feature "
-                                   "tree satisfies", "analysis")
+                                   "A constraint that no selection of features allowed by the feature tree satisfies.", "analysis")
 
 
 def _locked(fn):
@@ -381,43 +381,46 @@ class ModelAnalysis:
                include: Iterable[str] = (), exclude: Iterable[str] = (), timeout: Optional[float] = None,
                cancel: CancelLike = None) -> tuple[list[dict[str, bool]], str]:
         """Products as {feature name: selected}: ``uniform`` of them drawn uniformly at random
-        (with replacement), or a ``t``-wise covering sample (t = 1, 2).  Returns (products,
-        engine)."""
-        from .counting.sampling import CircuitOracle, SatOracle, twise
-        enc = self.encoding
-        svc = self.counter
-        lits = self._lits(include, exclude)
-        names = {v: self.name(f) for f, v in enc.var_of_feature.items()}
-
-        def named(p: list[int]) -> dict[str, bool]:
-            return {names[abs(x)]: x > 0 for x in sorted(p, key=abs) if abs(x) in names}
+        (with replacement), or a ``t``-wise covering sample (t = 1, 2, 3: see
+        :meth:`twise_sample`).  Returns (products, engine).  Raises CountTimeout when the
+        ``timeout`` (seconds) ends before the sample is complete, CountCancelled."""
         if uniform is not None:
-            prods, engine = svc.sample_uniform(uniform, seed=seed, assumptions=lits, timeout=timeout,
-                                               cancel=cancel)
-            return [named(p) for p in prods], engine
+            svc = self.counter
+            prods, engine = svc.sample_uniform(uniform, seed=seed, assumptions=self._lits(include, exclude),
+                                               timeout=timeout, cancel=cancel)
+            return [self._named(p) for p in prods], engine
         if t is None:
             raise ValueError("say t (t-wise) or uniform (how many)")
-        t0 = time.monotonic()
-        if svc.trivially_unsat:
-            return [], "trivial"
-        oracle = None
-        engine = "d4"
-        if svc.d4_usable():
-            try:
-                comp = svc.circuit(None if timeout is None else timeout * 0.75, cancel)
-                oracle = CircuitOracle(comp.circuit, enc.n_features)
-            except (CountTimeout, EngineFailed):
-                oracle = None
-        if oracle is None:
-            oracle = SatOracle(enc.clauses(), enc.n_features)
-            engine = "sat"
-        try:
-            left = None if timeout is None else max(0.05, timeout - (time.monotonic() - t0))
-            prods = twise(oracle, enc.n_features, t=t, seed=seed, assumptions=lits, timeout=left, cancel=cancel)
-        finally:
-            if isinstance(oracle, SatOracle):
-                oracle.close()
-        return [named(p) for p in prods], engine
+        prods, r = self.twise_sample(t, seed=seed or 0, include=include, exclude=exclude, budget=timeout,
+                                     cancel=cancel)
+        if not r.complete:
+            if r.stopped == "cancelled":
+                raise CountCancelled()
+            raise CountTimeout(f"no complete {t}-wise sample within {timeout:g} s")
+        return prods, "sat"
+
+    def twise_sample(self, t: int = 2, seed: int = 0, include: Iterable[str] = (), exclude: Iterable[str] = (),
+                     budget: Optional[float] = None, cancel: CancelLike = None,
+                     iterations: Optional[int] = None, jobs: int = 1):
+        """A ``t``-wise covering sample (t = 1, 2, 3) of the products with the included and
+        without the excluded features (:mod:`.sampling`: a warm SAT solver, no compilation):
+        (products as {feature name: selected}, :class:`.sampling.SampleResult`).  When the
+        ``budget`` (seconds) runs out the sample is partial: ``result.complete`` is False and
+        the result says the coverage reached and the interactions left."""
+        from .sampling import sample
+        enc = self.encoding
+        with self._lock:
+            clauses = enc.clauses()
+        r = sample(clauses, enc.n_features, t=t, seed=seed, assumptions=self._lits(include, exclude),
+                   budget=budget, cancel=cancel, iterations=iterations, jobs=jobs)
+        return [self._named(p) for p in r.products], r
+
+    def _named(self, p: list[int]) -> dict[str, bool]:
+        enc = self.encoding
+        if not hasattr(self, "_names_by_var"):
+            self._names_by_var = {v: self.name(f) for f, v in enc.var_of_feature.items()}
+        names = self._names_by_var
+        return {names[abs(x)]: x > 0 for x in sorted(p, key=abs) if abs(x) in names}
 
     # ------------------------------------------------------------------ products
     def _extra(self, formula: Optional[fm.Formula]) -> list[list[int]]:

@@ -527,7 +527,8 @@ class PairLogic:
         if v is None:
             v = self._new()
             self.var_of[name] = v
-            self.names.append((name, v))
+            if not fm.is_unknown(name):  # an unknown condition is no arg a witness could give
+                self.names.append((name, v))
         return v
 
     def _flush(self) -> None:

@@ -1,6 +1,6 @@
 """The one diagnostic type shared by the CLI and the language server.
 
-Codes are stable kebab-case strings; each is documented in ``docs/diagnostics.md`` and
+Codes are stable kebab-case strings; each is documented in ``tvl_lsp/data/diagnostics.md`` (the catalogue, :mod:`.catalogue`) and
 registered in :data:`CODES` with its default severity and a one-line summary.
 """
 

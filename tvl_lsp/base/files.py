@@ -1,8 +1,10 @@
 """Bounded reading of files: only regular files, up to a size cap, never blocking.
 
-Every file tvl-lsp reads on its own (models, included models and launch files, rosparam and
-``textfile`` files, package manifests, project files) goes through :func:`read_text` or
-:func:`read_head`.  They refuse, with a reason a user can act on, what must never be read:
+Every file tvl-lsp reads on its own, in every host (``--check``, the language server and its
+worker processes, the configurator, the caches): models, included models and launch files,
+rosparam and ``textfile`` files, package manifests, project files, cache entries, its own
+static assets -- goes through :func:`read_text`, :func:`read_bytes` or :func:`read_head`
+(``tests/test_architecture.py`` refuses a plain ``open()`` for reading anywhere else).  They refuse, with a reason a user can act on, what must never be read:
 
 - anything that is not a regular file: character and block devices (``/dev/zero``,
   ``/dev/stdin``), FIFOs (opening one for reading would block until a writer comes), sockets
@@ -66,14 +68,21 @@ def _check(path: str, st: os.stat_result, cap: Optional[int]) -> None:
         raise Unreadable(path, f"it is {_mb(st.st_size)}; files larger than {_mb(cap)} are not read")
 
 
-def read_bytes(path: str, cap: int = MAX_BYTES, *, head: bool = False) -> bytes:
+def read_bytes(path: str, cap: int = MAX_BYTES, *, head: bool = False, follow: bool = True) -> bytes:
     """The bytes of the regular file at ``path`` (its first ``cap`` bytes when ``head``).
+    ``follow=False``: a symbolic link is refused too, not followed (a cache's own files).
 
     Raises :class:`Unreadable` for what is not a regular file or (unless ``head``) is larger
     than ``cap``, and ``OSError`` when the file cannot be opened."""
     size_cap = None if head else cap
-    _check(path, os.stat(path), size_cap)
-    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    st = os.stat(path) if follow else os.lstat(path)
+    if not follow and stat.S_ISLNK(st.st_mode):
+        raise Unreadable(path, "it is a symbolic link, which is not followed here")
+    _check(path, st, size_cap)
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
+    if not follow:
+        flags |= getattr(os, "O_NOFOLLOW", 0)
+    fd = os.open(path, flags)
     try:
         _check(path, os.fstat(fd), size_cap)
         chunks: list[bytes] = []
@@ -107,11 +116,11 @@ def read_text_or_none(path: str, cap: int = MAX_BYTES) -> Optional[str]:
         return None
 
 
-def read_head(path: str, n: int) -> Optional[bytes]:
+def read_head(path: str, n: int, follow: bool = True) -> Optional[bytes]:
     """The first ``n`` bytes of a regular file of any size, or None (not a regular file, or
     it cannot be opened)."""
     try:
-        return read_bytes(path, n, head=True)
+        return read_bytes(path, n, head=True, follow=follow)
     except (OSError, ValueError):
         return None
 
@@ -190,6 +199,21 @@ def src_parent(folder: str) -> str:
         i = len(parts) - 1 - parts[::-1].index("src")
         return os.sep.join(parts[:i]) or os.sep
     return folder
+
+
+def package_text(*parts: str) -> str:
+    """The text of a file shipped in the package (``package_text("grammars", "tvl.lark")``),
+    through the bounded reader; from the source tree first (``grammars`` is a link there)."""
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))  # tvl_lsp/
+    for cand in (os.path.join(here, *parts), os.path.join(os.path.dirname(here), *parts)):
+        if is_regular(cand):
+            return read_text(cand)
+    from importlib import resources  # an installed wheel without the link materialised
+    ref = resources.files("tvl_lsp")
+    for part in parts:
+        ref = ref / part
+    with resources.as_file(ref) as p:
+        return read_text(str(p))
 
 
 def read_head_text(path: str, n: int) -> Optional[str]:

@@ -3,6 +3,16 @@
 from __future__ import annotations
 
 
+def kill_processes(pool) -> None:
+    """SIGKILL a pool's processes, nothing else (no lock, no waiting: safe in a signal handler
+    of a process about to exit)."""
+    try:
+        for p in list((getattr(pool, "_processes", None) or {}).values()):
+            p.kill()
+    except Exception:
+        pass
+
+
 def kill_pool(pool) -> None:
     """Kill a ``concurrent.futures.ProcessPoolExecutor``'s processes, then shut it down and wait
     for its manager thread (quick: its processes are gone).  Waiting is what closes the pool's

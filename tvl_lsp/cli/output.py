@@ -176,13 +176,9 @@ def to_sarif(diags: Sequence[Diagnostic], read_file: ReadFile, base: Optional[st
 
 
 def _doc_sections() -> dict[str, str]:
-    """code -> its section of docs/diagnostics.md (empty when the docs are not installed)."""
-    try:
-        from .commands.explain import doc_text, sections
-        text = doc_text()
-        return sections(text) if text else {}
-    except Exception:
-        return {}
+    """code -> its page of the diagnostics catalogue (package data)."""
+    from ..base.catalogue import all_sections
+    return all_sections()
 
 
 def format_sarif(diags: Sequence[Diagnostic], read_file: ReadFile, base: Optional[str] = None, **_: object) -> str:

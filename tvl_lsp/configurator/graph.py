@@ -94,8 +94,8 @@ class Graph:
 
 # ------------------------------------------------------------------ issue #16's graph
 
-_EDGE_DIRECTION = {"publish": True, "client": True, "write": True,   # node -> resource
-                   "subscribe": False, "service": False, "read": False}
+_EDGE_DIRECTION = {"publish": True, "client": True, "write": True, "action_client": True,  # node -> resource
+                   "subscribe": False, "service": False, "read": False, "action_server": False}
 
 
 def _loc16(x: Optional[dict]) -> Optional[dict]:
@@ -113,10 +113,30 @@ class PackageGraph:
 
     source = "tvl_lsp.graph"
 
-    def __init__(self, ctx, to_json):
+    def __init__(self, ctx, to_json, workspace=None):
         self.ctx = ctx
         self._to_json = to_json
         self._all = to_json(ctx.project({}))
+        self.workspace = workspace
+        # includes tvl-lsp could not follow (a package outside the workspace): placeholders
+        self.placeholders: dict[str, tuple[dict, fm.Formula]] = {}
+        for fact in _unfollowed(getattr(ctx.analysis, "includes", None) or []):
+            el = fact.element
+            text = el.attrs["file"].value if "file" in el.attrs else (fact.file or "?")
+            pkg = fact.package
+            eid = "include:" + (fact.file or text)
+            label = (pkg + "/" if pkg else "") + (fact.file or text).replace("\\", "/").rsplit("/", 1)[-1]
+            why = (f"package {pkg} is not in the workspace" if pkg and workspace is not None
+                   and pkg not in workspace.packages else "tvl-lsp could not follow it")
+            if eid in self.placeholders:
+                e, c = self.placeholders[eid]
+                self.placeholders[eid] = (e, fm.disj([c, fact.condition]))
+                continue
+            self.placeholders[eid] = ({"id": eid, "kind": "include", "name": text, "label": label,
+                                       "location": _loc(el.path, el.span),
+                                       "details": {"file": text, "package": pkg,
+                                                   "not followed": why + ": the nodes it starts are not shown"}},
+                                      fact.condition)
 
     @staticmethod
     def load(launch_path: str, model_path: Optional[str], workspace, read_file,
@@ -128,7 +148,7 @@ class PackageGraph:
             return None
         ctx = load_graph(launch_path, read_file=read_file, workspace=workspace, model=model_path,
                          project_files=project_files)
-        return PackageGraph(ctx, to_json)
+        return PackageGraph(ctx, to_json, workspace)
 
     def to_json(self, model_valid=None) -> dict:
         j = self._all
@@ -139,10 +159,13 @@ class PackageGraph:
                 det["note"] = n["note"]
             if n.get("hints"):
                 det["hints"] = ", ".join(f"{h.get('label', '')}" for h in n["hints"] if h)
-            els.append({"id": n["id"], "kind": "node", "name": n["name"], "label": n["name"].rsplit("/", 1)[-1] or n["name"],
+            label = n["name"].rsplit("/", 1)[-1] or n["name"]
+            if "#" in n["id"]:  # one name, nodes of several types (in different products): say which
+                label += f" ({n.get('type')})"
+            els.append({"id": n["id"], "kind": "node", "name": n["name"], "label": label,
                         "condition": n.get("condition"), "location": _loc16((n.get("locations") or [None])[0]),
                         "details": det})
-        for key, kind in (("topics", "topic"), ("services", "service"), ("parameters", "param")):
+        for key, kind in (("topics", "topic"), ("services", "service"), ("actions", "action"), ("parameters", "param")):
             for r in j.get(key, []):
                 det = {}
                 if r.get("type"):
@@ -151,6 +174,8 @@ class PackageGraph:
                     det["types"] = ", ".join(f"{t['type']} when {t['condition'] or 'always'}" for t in r["types"])
                 if "value" in r and r["value"] is not None:
                     det["value"] = r["value"]
+                if r.get("dynamic"):
+                    det["dynamic"] = "computed at run time: {…} stands for what is not known before"
                 els.append({"id": r["id"], "kind": kind, "name": r["name"], "label": r["name"],
                             "condition": r.get("condition"),
                             "location": _loc16((r.get("locations") or [None])[0]), "details": det})
@@ -158,24 +183,45 @@ class PackageGraph:
         for ln in j.get("links", []):
             out = _EDGE_DIRECTION.get(ln["kind"], True)
             via = (ln.get("via") or [None])[0] or {}
-            loc = _loc16(via.get("remap")) or _loc16(via.get("hint"))
+            loc = _loc16(via.get("remap")) or _loc16(via.get("hint")) or _loc16(via.get("source"))
             edges.append({"id": ln["id"], "source": ln["node_id"] if out else ln["resource_id"],
                           "target": ln["resource_id"] if out else ln["node_id"], "kind": ln["kind"],
                           "condition": ln.get("condition"), "location": loc})
-        return {"elements": els, "edges": edges, "source": self.source, "notes": j.get("notes", [])}
+        for eid, (e, c) in self.placeholders.items():
+            valid = c == fm.TRUE or (model_valid is not None and model_valid(c))
+            els.append(dict(e, condition=None if valid else str(c)))
+        out = {"elements": els, "edges": edges, "source": self.source, "notes": j.get("notes", [])}
+        if not j.get("topics") and not j.get("services") and j.get("nodes"):
+            out["noTopics"] = self.no_topics_hint(j)
+        return out
+
+    def no_topics_hint(self, j: dict) -> dict:
+        """What would add topics to a graph that has none: node hints for these node types, or
+        their packages' sources in the workspace."""
+        types = sorted({f"{n.get('package')}/{n.get('type')}" for n in j.get("nodes", []) if not n.get("hinted")})
+        pkgs = sorted({n.get("package") for n in j.get("nodes", []) if n.get("package")})
+        here = [x for x in pkgs if self.workspace is not None and x in self.workspace.packages]
+        away = [x for x in pkgs if x not in here]
+        return {"types": types, "sourcesHere": here, "sourcesAway": away,
+                "projectFiles": list(j.get("hints") or [])}
 
     @property
     def ids(self) -> list[str]:
         j = self._all
-        return ([x["id"] for x in j.get("nodes", [])] + [x["id"] for k in ("topics", "services", "parameters")
+        return ([x["id"] for x in j.get("nodes", [])] + [x["id"] for k in ("topics", "services", "actions", "parameters")
                                                          for x in j.get(k, [])] + [x["id"] for x in j.get("links", [])])
 
     def statuses(self, decisions: Mapping[str, bool], logic=None) -> dict[str, str]:
         j = self._to_json(self.ctx.project(dict(decisions)))
-        present = {x["id"]: x.get("condition") for k in ("nodes", "topics", "services", "parameters", "links")
+        present = {x["id"]: x.get("condition") for k in ("nodes", "topics", "services", "actions", "parameters", "links")
                    for x in j.get(k, [])}
-        return {i: ("absent" if i not in present else "certain" if present[i] is None else "possible")
-                for i in self.ids}
+        out = {i: ("absent" if i not in present else "certain" if present[i] is None else "possible")
+               for i in self.ids}
+        if self.placeholders and logic is not None:
+            decided = decisions_formula(decisions)
+            for eid, (_, c) in self.placeholders.items():
+                out[eid] = _status(c, decided, logic)
+        return out
 
     def close(self) -> None:
         self.ctx.close()
@@ -224,18 +270,29 @@ def build(launch, model_path: Optional[str] = None, workspace=None, read_file=No
     return g
 
 
+def _status(cond: fm.Formula, decided: fm.Formula, logic) -> str:
+    if not logic.sat(fm.conj([decided, cond])):
+        return "absent"
+    if not logic.sat(fm.conj([decided, fm.neg(cond)])):
+        return "certain"
+    return "possible"
+
+
+def _unfollowed(facts) -> list:
+    """The include facts (at any depth) tvl-lsp did not follow."""
+    out, todo = [], list(facts)
+    while todo:
+        f = todo.pop(0)
+        if not f.followed and f.condition != fm.FALSE:
+            out.append(f)
+        todo.extend(f.children)
+    return out
+
+
 def project(graph: Graph, decided: fm.Formula, logic) -> dict[str, str]:
     """{element or edge id: certain | possible | absent} under the decisions (``decided``: their
     conjunction as a formula; ``logic``: a PairLogic over the model)."""
-    out: dict[str, str] = {}
-    for eid, cond in graph.conditions.items():
-        if not logic.sat(fm.conj([decided, cond])):
-            out[eid] = "absent"
-        elif not logic.sat(fm.conj([decided, fm.neg(cond)])):
-            out[eid] = "certain"
-        else:
-            out[eid] = "possible"
-    return out
+    return {eid: _status(cond, decided, logic) for eid, cond in graph.conditions.items()}
 
 
 def decisions_formula(decisions: Mapping[str, bool]) -> fm.Formula:

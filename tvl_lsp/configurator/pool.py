@@ -63,3 +63,15 @@ def run(model: str, roots: Sequence[str], texts: Mapping[str, str], op: str, par
     except SessionError as e:
         return {"error": str(e)}
     return {"result": out, "decisions": new}
+
+
+def close(model: str) -> dict[str, Any]:
+    """The configurator of ``model`` was closed (the VS Code panel): stop its background
+    compilation (d4 is killed and reaped) and forget its sessions."""
+    from ..analysis.counting.service import cancel_owned
+    model = norm(model)
+    stopped = cancel_owned(model, wait=3.0)
+    with _LOCK:
+        for k in [k for k in _SESSIONS if k[0] == model]:
+            _SESSIONS.pop(k, None)
+    return {"result": {"stopped": stopped}, "decisions": None}

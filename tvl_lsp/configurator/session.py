@@ -109,11 +109,13 @@ class Session:
         self._graph = None
         self._graph_lock = threading.Lock()
         self._problems: Optional[list] = None
+        self._rule_problems: Optional[list] = None
         self._states: OrderedDict = OrderedDict()
         self._problem_states: OrderedDict = OrderedDict()
         self._graph_states: OrderedDict = OrderedDict()
         self._total: Optional[int] = None
         self.compile_budget = COMPILE_BUDGET
+        self.last_plan: dict = {}
 
     # ------------------------------------------------------------------ opening
     @classmethod
@@ -195,6 +197,10 @@ class Session:
             raise SessionError(f"unknown feature {name!r}")
         return n
 
+    def accepted_names(self) -> dict[str, str]:
+        """Every name a configuration file may use for a feature (short, long) -> its name here."""
+        return dict(self._alias)
+
     def check_decisions(self, decisions: Mapping[str, bool]) -> dict[str, bool]:
         out = {}
         for k, v in decisions.items():
@@ -208,24 +214,28 @@ class Session:
         return graphmod._loc(path, span)
 
     def tree(self) -> dict:
+        """The feature tree: each node with its ``kind`` in its parent's group (root, mandatory,
+        optional or member) in words true to the model (``kindText``), its own groups."""
         from ..analysis.encode import source_text
         cache: dict = {}
 
-        def node(f, shared: bool = False, optional: bool = False) -> dict:
+        def node(f, entry=None, g=None, shared: bool = False) -> dict:
             groups = f.groups  # (a UVL feature may have several: its children come from all)
-            g = groups[0] if groups else None
+            kind, kind_text = member_kind(entry, g)
             out = {"id": self.analysis.name(f), "name": f.name, "longName": f.long_name,
-                   "optional": optional, "location": self._loc(f.path, f.name_span)}
+                   "optional": kind == "optional", "kind": kind, "kindText": kind_text,
+                   "location": self._loc(f.path, f.name_span)}
             if shared:
                 out["ref"] = True
                 out["children"] = []
                 return out
-            if g is not None and g.children:
-                hi = g.hi
-                text = " + ".join(x.text for x in groups)
-                out["group"] = {"kind": g.kind, "lo": g.lo, "hi": hi, "text": text}
+            if groups and any(x.children for x in groups):
+                first = next(x for x in groups if x.children)
+                text = " + ".join(dict.fromkeys(x.text for x in groups if x.children))
+                out["group"] = {"kind": first.kind, "lo": first.lo, "hi": first.hi, "text": text,
+                                "kinds": sorted({x.kind for x in groups if x.children})}
             out["constraints"] = [source_text(self.model, c.path, c.span, 120, cache) for c in f.constraints]
-            out["children"] = [node(c.feature, c.shared, c.optional) for x in groups for c in x.children]
+            out["children"] = [node(c.feature, c, x, c.shared) for x in groups for c in x.children]
             return out
 
         return node(self.model.root)
@@ -253,11 +263,12 @@ class Session:
             return None
         decisions = self.check_decisions(decisions)
         key = _key(decisions)
+        everything = self._problems + (self._rule_problems or [])
         with self._lock:
             hit = self._problem_states.get(key)
-            if hit is None:
+            if hit is None or len(hit) != len(everything):
                 decided = graphmod.decisions_formula(decisions)
-                hit = {x.id: problemsmod.status(x, decisions, self.logic, decided) for x in self._problems}
+                hit = {x.id: problemsmod.status(x, decisions, self.logic, decided) for x in everything}
                 self._problem_states[key] = hit
                 while len(self._problem_states) > 64:
                     self._problem_states.popitem(last=False)
@@ -282,7 +293,43 @@ class Session:
                         from ..project.check import _internal
                         diags.append(_internal(p, f"check failed: {exc!r}"))
                 self._problems = [problemsmod.problem_of(i, d) for i, d in enumerate(diags)]
-            return self._problems
+        return self._problems + self.rule_problems()
+
+    def rule_problems(self) -> list:
+        """The HAROS project files' ``rules`` evaluated on the graph of every product (or listed
+        as not evaluated): problems with the condition of what each query finds."""
+        with self._problem_lock:
+            if self._rule_problems is None:
+                from . import rules
+                found = []
+                # the rules query launch models: a model configuring no launch file has none
+                for path in (self.rule_files() if self.launch else []):
+                    text = self.read_file(path)
+                    if text and "rules" in text:
+                        found += rules.read_rules(path, text)
+                g = simp = None
+                if found and self.launch:
+                    ctx = getattr(self.graph, "ctx", None)
+                    g = getattr(ctx, "graph", None)
+                    if g is not None:
+                        simp = rules.simplifier(ctx.logic, g)
+                try:
+                    diags = rules.diagnostics(found, g, valid=lambda c: self.logic.valid(c), simplify=simp) \
+                        if found else []
+                except Exception as exc:  # an evaluator bug must not hide the other problems
+                    from ..project.check import _internal
+                    diags = [(_internal(found[0].path, f"rules failed: {exc!r}"), None)]
+                self._rule_problems = [problemsmod.Problem(f"r{i}", d, c) for i, (d, c) in enumerate(diags)]
+            return self._rule_problems
+
+    def rule_files(self) -> list[str]:
+        """The project files whose rules apply: ``project_files`` when given, else those naming
+        the launch file, else every HAROS project file of the workspace."""
+        if self.project_files is not None:
+            return list(self.project_files)
+        naming = [pf.path for pf in self.workspace.projects for c in pf.configurations
+                  if self.launch and any(norm(lf) == self.launch for lf, _ in c.launches)]
+        return list(dict.fromkeys(naming)) or [pf.path for pf in self.workspace.projects]
 
     def _problem_json(self, p) -> dict:
         d = p.diagnostic
@@ -368,6 +415,11 @@ class Session:
                 self._states.move_to_end(key)
                 return hit
             p = self.analysis.propagate(decisions, count=False)
+            if not p.ok and not decisions:
+                # a void model: it opens (its problems say why), every decision is refused
+                out = {"decisions": {}, "implied": {}, "open": list(self.names), "complete": False, "void": True}
+                self._states[key] = out
+                return out
             if not p.ok:
                 raise SessionError("the decisions conflict: " + ", ".join(p.conflict or []))
             return self._remember_state(decisions, p)
@@ -399,7 +451,15 @@ class Session:
             return {"decisions": dict(decisions), "total": None if self._total is None else str(self._total),
                     "remaining": None, "features": {}, "complete": False, "pending": True,
                     "status": "compiling", "message": st.message, "seconds": round(st.seconds, 1),
-                    "engine": None}
+                    "budget": self.compile_budget, "engine": None}
+        why = self.analysis.counter.gave_up() if st.state == "failed" else None
+        if why is not None:
+            # out of its compile budget: no count will come (pyganak would spend the timeout on
+            # every click and fail too); the configurator works on without counts
+            return {"decisions": dict(decisions), "total": None, "remaining": None, "features": {},
+                    "complete": False, "pending": False, "status": "gave-up", "budget": self.compile_budget,
+                    "message": f"not counted: d4 could not compile the model within its budget of "
+                               f"{self.compile_budget:g} s ({why})", "engine": None}
         inc = [k for k, v in decisions.items() if v]
         exc = [k for k, v in decisions.items() if not v]
         enc = self.analysis.encoding
@@ -428,6 +488,10 @@ class Session:
 
     # ------------------------------------------------------------------ generation
     def products(self, decisions: Mapping[str, bool], mode: str, limit: int = 100) -> list[dict[str, bool]]:
+        return self._products(decisions, mode, limit)[0]
+
+    def _products(self, decisions: Mapping[str, bool], mode: str, limit: int) -> tuple[list[dict[str, bool]], bool]:
+        """(products, cut): ``cut`` when there are more than ``limit`` of them."""
         decisions = self.check_decisions(decisions)
         if mode not in MODES:
             raise SessionError(f"mode must be one of {', '.join(MODES)}")
@@ -435,33 +499,31 @@ class Session:
             st = self.state(decisions)
             if not st["complete"]:
                 raise SessionError(f"the product is not complete yet: {len(st['open'])} feature(s) are open "
-                                   f"({', '.join(st['open'][:5])}{', …' if len(st['open']) > 5 else ''})")
+                                   f"({', '.join(st['open'][:5])}{', …' if len(st['open']) > 5 else ''}); "
+                                   "decide them or use Complete")
             product = {n: False for n in self.names}
             product.update(st["implied"])
             product.update(decisions)
-            return [product]
+            return [product], False
         if mode == "sample":
             products = self.pairwise(decisions)
             if len(products) > limit:
                 raise SessionError(f"the pairwise sample has {len(products)} configurations, more than the limit "
                                    f"of {limit} files per Generate: decide more features first, or raise the "
                                    "limit (tvl-lsp ui --limit, the server's generate.limit setting)")
-            return products
+            return products, False
         inc = [k for k, v in decisions.items() if v] if mode == "completions" else []
         exc = [k for k, v in decisions.items() if not v] if mode == "completions" else []
         with self._lock:
-            return list(self.analysis.enumerate(limit=limit, include=inc, exclude=exc))
+            got = list(self.analysis.enumerate(limit=limit + 1, include=inc, exclude=exc))
+        return got[:limit], len(got) > limit
 
     def pairwise(self, decisions: Mapping[str, bool], seed: int = 0) -> list[dict[str, bool]]:
         """A pairwise (t = 2) sample of the products that respect ``decisions``: every
-        configuration is a product, every valid pair of feature choices is in one of them (the
-        counting service's sampler, over the compiled d-DNNF; a SAT solver where d4 cannot
-        count)."""
+        configuration is a product, every valid pair of feature choices is in one of them
+        (:mod:`tvl_lsp.analysis.sampling`: a SAT solver, no compilation to wait for)."""
         inc = [k for k, v in decisions.items() if v]
         exc = [k for k, v in decisions.items() if not v]
-        st = self.compile_status()
-        if st.state == "compiling":
-            st = self.analysis.counter.wait(self.compile_budget)
         try:
             with self._count_lock:
                 products, _ = self.analysis.sample(t=2, seed=seed, include=inc, exclude=exc,
@@ -472,29 +534,104 @@ class Session:
             raise SessionError(f"no pairwise sample within {SAMPLE_BUDGET:g} s: decide more features first")
         return products
 
+    def _available(self, decisions: dict[str, bool], mode: str) -> Optional[int]:
+        """How many products ``mode`` covers, when the compiled model says it at once."""
+        if mode == "current":
+            return 1
+        if mode == "sample" or not self.analysis.counter.ready():
+            return None
+        d = decisions if mode == "completions" else {}
+        try:
+            with self._count_lock:
+                return self.analysis.count_result(include=[k for k, v in d.items() if v],
+                                                  exclude=[k for k, v in d.items() if not v], timeout=2).value
+        except (CountTimeout, CountCancelled):
+            return None
+
+    def file_names(self, products: list[dict[str, bool]], features: list[str], decisions: Mapping[str, bool],
+                   prefix: str, suffix: str) -> list[str]:
+        """Readable, distinct file names: the product's selected features that not every product
+        has (``generic_random-teleop.launch``); when those are too many, your included decisions
+        and a number (``generic_amcl-lidar_3.launch``)."""
+        import re
+        with self._lock:
+            core = set(self.analysis.core_features())
+        mine = [k for k, v in decisions.items() if v and k not in core]
+
+        def token(f: str) -> str:
+            return re.sub(r"[^A-Za-z0-9_]+", "_", f).strip("_").lower() or "_"
+        out: list[str] = []
+        seen: dict[str, int] = {}
+        named: dict[tuple, str] = {}  # products the launch file cannot tell apart: one file
+        for i, prod in enumerate(products):
+            on = [f for f in features if prod.get(f) and f not in core]
+            if tuple(on) in named:
+                out.append(named[tuple(on)])
+                continue
+            body = "-".join(token(f) for f in on) or "base"
+            if len(body) > 60:
+                head = "-".join(token(f) for f in mine[:3]) or "config"
+                more = len(on) - min(3, len(mine))
+                body = f"{head}-and-{more}-more" if len(products) == 1 else f"{head}_{i + 1}"
+            name = f"{prefix}_{body}"
+            n = seen.get(name.casefold(), 0)
+            seen[name.casefold()] = n + 1
+            named[tuple(on)] = f"{name}{'' if n == 0 else f'_{n + 1}'}{suffix}"
+            out.append(named[tuple(on)])
+        return out
+
     def plan_generation(self, decisions: Mapping[str, bool], mode: str, folder: Optional[str] = None,
                         limit: int = 100):
         """(files, out_dir): the configuration launch files for ``mode`` (current product,
         every completion, a pairwise sample, or every product), planned inside the workspace
-        -- nothing is written here."""
+        -- nothing is written here.  :attr:`last_plan` says how many products there were and
+        whether the limit cut them."""
         from ..project.generate import GenerateError, plan_configurations, resolve_folder
         if not self.launch or self._launch_analysis is None:
-            raise SessionError(f"{os.path.basename(self.model_path)} is paired with no launch file")
+            raise SessionError(f"{os.path.basename(self.model_path)} is paired with no launch file: choose one "
+                               "(the launch file whose top-level args are the model's features)")
+        decisions = self.check_decisions(decisions)
         la = self._launch_analysis
         feature_names = set(self.names) | {f.long_name for f in self.model.features} | {f.name for f in self.model.features}
         features = [a.name for a in la.feature_args if a.name in feature_names and getattr(a, "value", None) is None]
-        products = self.products(decisions, mode, limit)
+        products, cut = self._products(decisions, mode, limit)
         package = self.workspace.package_of(self.launch)
         package_dir = self.workspace.packages.get(package) if package else None
+        dialect = getattr(la, "dialect", "ros1")
+        prefix = Path(self.launch).name.split(".")[0]
+        names = self.file_names(products, features, decisions, prefix, ".launch.xml" if dialect == "ros2" else ".launch")
         try:
             out_dir = resolve_folder(folder, self.launch, self.roots)
             from ..project.generate import ros2_choices
             files = plan_configurations(products, features, self.launch, out_dir, self.roots, package, package_dir,
-                                        omit=[self.model.root.name], dialect=getattr(la, "dialect", "ros1"),
-                                        choices=ros2_choices(la, self.model))
+                                        omit=[self.model.root.name], dialect=dialect,
+                                        choices=ros2_choices(la, self.model), names=names)
         except GenerateError as e:
             raise SessionError(str(e))
+        self.last_plan = {"products": len(products), "limit": limit, "cut": cut,
+                          "available": self._available(decisions, mode) if cut else len(products)}
         return files, out_dir
+
+    # ------------------------------------------------------------------ pairing
+    def launch_candidates(self, limit: int = 50) -> list[dict]:
+        """The workspace's launch files, those whose top-level ``<arg>`` names are most of the
+        model's features first: ``{path, relative, args, matches}`` (for choosing the launch file
+        the model configures when no pairing rule names one)."""
+        import re
+        names = set(self.names) | {f.name for f in self.model.features}
+        tag = re.compile(r"<arg\s[^>]*>")
+        name = re.compile(r"\bname\s*=\s*[\"']([^\"']+)[\"']")
+        out = []
+        for lf in self.workspace.files.launches[:2000]:
+            text = self.read_file(lf)
+            if not text:
+                continue
+            # the args a command line sets (no `value`): a configuration launch file fixes them
+            args = {m.group(1) for t in tag.findall(text) if not re.search(r"\bvalue\s*=", t)
+                    for m in [name.search(t)] if m}
+            out.append({"path": lf, "relative": self.relative(lf), "args": len(args), "matches": len(args & names)})
+        out.sort(key=lambda x: (-x["matches"], x["relative"]))
+        return out[:limit]
 
     # ------------------------------------------------------------------ sources
     def known_files(self) -> set[str]:
@@ -531,6 +668,27 @@ class Session:
             except ValueError:
                 continue
         return path
+
+
+def member_kind(entry, group) -> tuple[str, str]:
+    """(kind, words) of a feature in its parent's group: ``root``, ``mandatory``, ``optional``
+    (an ``opt`` child, or a UVL ``optional`` group: optionality prevails over the group) or
+    ``member`` (of a oneOf / someOf / cardinality group, which decides)."""
+    if entry is None or group is None:
+        return "root", "root (in every product)"
+    n = len(group.children)
+    if group.kind == "allOf":
+        if entry.optional:
+            return "optional", "optional"
+        return "mandatory", "mandatory (whenever its parent is included)"
+    if entry.optional:
+        return "optional", f"optional (in a {group.text} group: optionality prevails)"
+    if group.kind == "oneOf":
+        return "member", f"group member: {group.text}, exactly one of {n}"
+    if group.kind == "someOf":
+        return "member", f"group member: {group.text}, at least one of {n}"
+    hi = "any number" if group.hi is None else str(group.hi)
+    return "member", f"group member: {group.text}, {group.lo} to {hi} of {n}"
 
 
 def check_files(paths: list[str], roots: list[str]) -> list:

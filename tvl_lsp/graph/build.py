@@ -1,14 +1,20 @@
 """Building the computation graph: of all products at once (from the symbolic load of a launch
 file), or of one product (from the concrete load, as roslaunch loads it).
 
-    build_graph(analysis: LaunchAnalysis, hints: ProjectHints, configs=None) -> Graph
-    build_product_graph(result: LoadResult, hints: ProjectHints, launch, configs=None) -> Graph
+    build_graph(analysis: LaunchAnalysis, hints: ProjectHints, configs=None, sources=None) -> Graph
+    build_product_graph(result: LoadResult, hints: ProjectHints, launch, configs=None, sources=None) -> Graph
 
 Both go through :func:`assemble` over *node instances*: a ``<node>`` as loaded under a
 condition, with its resolved name and the remaps that apply to it (each under its own
-condition).  A node's links come from its hints (:mod:`tvl_lsp.graph.hints`): each hinted
-name is resolved in the node's namespace and remapped by :func:`tvl_lsp.graph.names.remap_cases`,
-one case per remap that may apply.  Nodes without hints get no links and a note.
+condition).  A node's links come from what its package's sources make its program use
+(``sources``: ``pkg/executable`` -> :class:`tvl_lsp.graph.sources.Executable`) and from its
+hints (:mod:`tvl_lsp.graph.hints`); a hint entry adds a name, or overrides the call of the
+sources that asks for the same name (a dynamic one it matches), for its node only; a hint's
+``values`` fill in the run-time parts of dynamic names.  Each name is resolved in the node's
+namespace and remapped by :func:`tvl_lsp.graph.names.remap_cases`, one case per remap that may
+apply; a name that stays dynamic is resolved but not remapped (``/{real_name}/cmd_vel``: no
+remap can be known to match it).  ROS 2 parameters belong to their node (``/node/param``).
+Nodes known neither from sources nor from hints get no links and a note.
 """
 
 from __future__ import annotations
@@ -36,6 +42,7 @@ class Instance:
     condition: Formula
     remaps: list[tuple[str, str, Formula, Optional[Location]]]  # roslaunch's order
     location: Optional[Location]
+    ros2: bool = False
 
 
 @dataclass
@@ -67,7 +74,8 @@ def instances_of_analysis(analysis) -> tuple[list[Instance], list[ParamInstance]
         loc = Location(el.path, el.span, _node_label(el))
         remaps = [(r.from_, r.to, r.condition, Location(r.element.path, r.element.span, _remap_label(r.element)))
                   for r in getattr(nf, "remap_cases", [])]
-        insts.append(Instance(nf.name, nf.pkg, nf.type, nf.namespace, nf.condition, remaps, loc))
+        insts.append(Instance(nf.name, nf.pkg, nf.type, nf.namespace, nf.condition, remaps, loc,
+                              hasattr(nf, "executable")))
     params = []
     for p in analysis.params:
         el = p.element
@@ -89,9 +97,96 @@ def instances_of_result(result) -> tuple[list[Instance], list[ParamInstance]]:
     return insts, params
 
 
+class _Use:
+    """One name a node uses: from a hint entry or a call in its sources."""
+    __slots__ = ("kind", "name", "type", "hint", "source", "dynamic", "label")
+
+    def __init__(self, kind: str, name: str, type_: Optional[str], hint: Optional[Location],
+                 source: Optional[Location], dynamic: bool, label: str):
+        self.kind = kind
+        self.name = name
+        self.type = type_
+        self.hint = hint
+        self.source = source
+        self.dynamic = dynamic
+        self.label = label
+
+
+def _substitute(name: str, values: dict[str, str]) -> tuple[str, bool]:
+    """A dynamic name with the hinted run-time values put in; (name, still dynamic)."""
+    if values:
+        for k, v in values.items():
+            name = name.replace("{" + k + "}", v)
+    return name, "{" in name
+
+
+def _pattern(resolved: str):
+    import re
+    parts = re.split(r"(\{[^{}]*\})", resolved)
+    rx = "".join("[^/]+(?:/[^/]+)*" if p.startswith("{") and p.endswith("}") else re.escape(p) for p in parts)
+    return re.compile("^" + rx + "$")
+
+
+def _source_uses(exe, values: dict[str, str]) -> list[_Use]:
+    from .sources import LINK_OF_KIND
+    out = []
+    for e in exe.endpoints:
+        kind = LINK_OF_KIND.get(e.kind)
+        if kind is None:
+            continue
+        name, dyn = (_substitute(e.name, values) if e.dynamic else (e.name, False))
+        loc = Location(e.file, Span(Pos(max(0, e.line - 1), e.col), Pos(max(0, e.end_line - 1), e.end_col)),
+                       f"{e.kind} `{e.name}` ({os.path.basename(e.file)}:{e.line})")
+        out.append(_Use(kind, name, e.type, None, loc, dyn, f"{exe.package}/{exe.name}"))
+    return out
+
+
+def _uses(inst: "Instance", hs, exe) -> tuple[list[_Use], bool]:
+    """What a node instance uses: its hints' entries, and its sources' endpoints that no hint
+    entry overrides (a hint entry of the same kind whose resolved name equals the endpoint's,
+    or matches a dynamic one).  Second: whether some name stays dynamic."""
+    uses: list[_Use] = []
+    values: dict[str, str] = {}
+    for h in hs:
+        values.update(h.values)
+        for e in h.entries:
+            uses.append(_Use(e.kind, e.name, e.type, Location(e.path, e.span, f"{h.key}: {e.kind} {e.name}"),
+                             None, False, h.key))
+    if exe is None:
+        return uses, False
+    hinted = {}
+    for u in uses:
+        hinted.setdefault(u.kind, []).append(N.resolve(u.name, inst.name))
+    dynamic = False
+    for u in _source_uses(exe, values):
+        mine = hinted.get(u.kind, [])
+        if mine:
+            r = N.resolve(u.name, inst.name)
+            if u.dynamic:
+                rx = _pattern(r)
+                over = [m for m in mine if rx.match(m)]
+            else:
+                over = [m for m in mine if m == r]
+            if over:
+                # the hint overrides this call: it keeps the hint's name and type, and the call's place
+                for h in uses:
+                    if h.kind == u.kind and h.source is None and N.resolve(h.name, inst.name) in over:
+                        h.source = u.source
+                        if h.type is None:
+                            h.type = u.type
+                continue
+        dynamic = dynamic or u.dynamic
+        uses.append(u)
+    return uses, dynamic
+
+
 def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamInstance],
-             hints: Optional[ProjectHints], configs: Optional[Iterable[str]] = None) -> Graph:
+             hints: Optional[ProjectHints], configs: Optional[Iterable[str]] = None,
+             sources: Optional[dict] = None) -> Graph:
+    """The graph of node and parameter instances; what each node uses comes from ``hints``
+    and from ``sources`` (``pkg/executable`` -> :class:`tvl_lsp.graph.sources.Executable`)."""
     hints = hints or ProjectHints()
+    sources = sources or {}
     instances = [i for i in instances if i.condition != FALSE]
     g = Graph(launch=launch, hint_sources=list(hints.sources))
     # ids: a name used by nodes of several types (in different products) gets the type in its id
@@ -120,31 +215,42 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
                 node.locations.append(inst.location)
             node.occurrences.append((inst.location, inst.condition))
         hs = hints.for_node(inst.package, inst.type, inst.name, configs)
+        exe = sources.get(f"{inst.package}/{inst.type}")
         used: set[str] = set()
-        if hs:
+        if hs and (any(h.entries for h in hs) or not any(h.values for h in hs)):
             node.hinted = True
+        if hs:
             for h in hs:
                 loc = Location(h.path, h.span, f"hints for {h.key}")
                 if loc not in node.hints:
                     node.hints.append(loc)
-        for h in hs:
-            for e in h.entries:
-                rkind = RESOURCE_OF_KIND[e.kind]
-                used.add(N.resolve(e.name, inst.name))
-                hint_loc = Location(e.path, e.span, f"{h.key}: {e.kind} {e.name}")
-                for c, rname, origin in N.remap_cases(e.name, inst.name, inst.remaps):
-                    lc = conj([inst.condition, c])
-                    if lc == FALSE:
-                        continue
-                    rid = f"{RESOURCE_PREFIX[rkind]}:{rname}"
-                    if rid not in g.resources:
-                        g.resources[rid] = Resource(rid, rkind, rname, FALSE)
-                    res_conds.setdefault(rid, []).append(lc)
-                    if e.type:
-                        type_conds.setdefault((rid, e.type), []).append(lc)
-                    key = (nid, e.kind, rid)
-                    link_types.setdefault(key, set()).add(e.type)
-                    pending.append((key, e.type, Via(e.name, e.type, lc, hint_loc, origin)))
+        if exe is not None:
+            node.extracted = True
+        uses, has_dynamic = _uses(inst, hs, exe)
+        for e in uses:
+            rkind = RESOURCE_OF_KIND[e.kind]
+            if rkind == "parameter" and inst.ros2 and not e.name.startswith(("/", "~")):
+                pname = "~" + e.name.replace(".", "/")  # a ROS 2 parameter belongs to its node
+            else:
+                pname = e.name
+            used.add(N.resolve(pname, inst.name))
+            # a dynamic name cannot be known to match a remap; ROS 2 remaps topics and services only
+            cases = ([(TRUE, N.resolve(pname, inst.name), None)]
+                     if e.dynamic or (rkind == "parameter" and inst.ros2)
+                     else N.remap_cases(pname, inst.name, inst.remaps))
+            for c, rname, origin in cases:
+                lc = conj([inst.condition, c])
+                if lc == FALSE:
+                    continue
+                rid = f"{RESOURCE_PREFIX[rkind]}:{rname}"
+                if rid not in g.resources:
+                    g.resources[rid] = Resource(rid, rkind, rname, FALSE, dynamic=e.dynamic)
+                res_conds.setdefault(rid, []).append(lc)
+                if e.type:
+                    type_conds.setdefault((rid, e.type), []).append(lc)
+                key = (nid, e.kind, rid)
+                link_types.setdefault(key, set()).add(e.type)
+                pending.append((key, e.type, Via(e.name, e.type, lc, e.hint, origin, e.source)))
         # how each remap applies to this node (remap-unused)
         for f, t, c, origin in inst.remaps:
             if origin is None or not f or not t or f.startswith("__"):
@@ -154,7 +260,7 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
                 continue
             rf = N.resolve(f, inst.name)
             g.remap_uses.setdefault(origin, []).append(
-                RemapUse(nid, rf, N.resolve(t, inst.name), rc, rf in used, bool(hs)))
+                RemapUse(nid, rf, N.resolve(t, inst.name), rc, rf in used, node.known and not has_dynamic))
     link_conds: dict[str, list[Formula]] = {}
     for key, typ, via in pending:
         nid, kind, rid = key
@@ -165,7 +271,8 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
         if ln is None:
             ln = g.links[lid] = Link(lid, nid, rid, kind, FALSE, typ)
         link_conds.setdefault(lid, []).append(via.condition)
-        ln.via.append(via)
+        if via not in ln.via:
+            ln.via.append(via)
     for nid, cs in node_conds.items():
         g.nodes[nid].condition = disj(cs)
     for rid, cs in res_conds.items():
@@ -190,27 +297,51 @@ def assemble(launch: str, instances: Iterable[Instance], params: Iterable[ParamI
     for rid, cs in param_conds.items():
         r = g.resources[rid]
         r.condition = disj([r.condition] + cs)
+    where = (", ".join(os.path.basename(s) for s in hints.sources) or "a HAROS project file")
     for node in g.nodes.values():
-        if not node.hinted:
-            node.note = (f"no hints for {node.package}/{node.type} in "
-                         + (", ".join(os.path.basename(s) for s in hints.sources) or "a HAROS project file")
-                         + ": the topics and services it uses are unknown")
-    unhinted = sorted({f"{n.package}/{n.type}" for n in g.nodes.values() if not n.hinted})
-    if unhinted:
-        g.notes.append(f"{len(unhinted)} node type(s) without hints (their topics are unknown): "
-                       + ", ".join(unhinted[:12]) + (", …" if len(unhinted) > 12 else ""))
+        if not node.known:
+            node.note = (f"no hints for {node.package}/{node.type} in {where} and no sources of it in the "
+                         "workspace: the topics and services it uses are unknown")
+    unknown = sorted({f"{n.package}/{n.type}" for n in g.nodes.values() if not n.known})
+    if unknown:
+        g.notes.append(f"{len(unknown)} node type(s) whose topics are unknown (no sources in the workspace, no "
+                       "hints): " + ", ".join(unknown[:12]) + (", …" if len(unknown) > 12 else ""))
+    dyn = sorted({r.name for r in g.resources.values() if r.dynamic})
+    if dyn:
+        g.notes.append(f"{len(dyn)} name(s) computed at run time (shown with {{expression}}; a project file's "
+                       "`values:` hint gives their value): " + ", ".join(dyn[:8]) + (", …" if len(dyn) > 8 else ""))
     return g
 
 
 def build_graph(analysis, hints: Optional[ProjectHints] = None,
-                configs: Optional[Iterable[str]] = None) -> Graph:
+                configs: Optional[Iterable[str]] = None, sources: Optional[dict] = None) -> Graph:
     """The graph of every product of a symbolically loaded launch file (``LaunchAnalysis``)."""
     insts, params = instances_of_analysis(analysis)
-    return assemble(analysis.path, insts, params, hints, configs)
+    g = assemble(analysis.path, insts, params, hints, configs, sources)
+    g.notes.extend(outside_notes(analysis.includes, lambda i: (i.outside, i.file, i.children)))
+    return g
+
+
+def outside_notes(includes, fields) -> list[str]:
+    """A note per include outside the workspace (not read: what it starts is not drawn); the
+    one rule of docs/architecture.md, "Includes outside the workspace"."""
+    out: list[str] = []
+    todo = list(includes or [])
+    while todo:
+        outside, file, children = fields(todo.pop(0))
+        if outside and file:
+            note = f"{file} is outside the workspace: not read, so the nodes it starts are not drawn"
+            if note not in out:
+                out.append(note)
+        todo.extend(children or [])
+    return out
 
 
 def build_product_graph(result, hints: Optional[ProjectHints] = None, launch: str = "",
-                        configs: Optional[Iterable[str]] = None) -> Graph:
+                        configs: Optional[Iterable[str]] = None, sources: Optional[dict] = None) -> Graph:
     """The graph of one product, from what roslaunch loads for it (``LoadResult``)."""
     insts, params = instances_of_result(result)
-    return assemble(launch, insts, params, hints, configs)
+    g = assemble(launch, insts, params, hints, configs, sources)
+    g.notes.extend(outside_notes(getattr(result, "includes", None),
+                                 lambda i: (i.get("outside", False), i.get("file"), i.get("includes"))))
+    return g

@@ -15,9 +15,13 @@ smallest product in which it shows (a *witness*) and the ``<node>`` tags, hint e
 
 "Some product where" is a SAT question over the model and the presence conditions (the
 cross-check's PairLogic); the witness is the product with the fewest selected features.
-Nodes without hints use unknown names: a product where such a node is loaded still gets a
+What a node uses is known from its sources (:mod:`tvl_lsp.graph.sources`) or its hints; nodes
+known from neither use unknown names: a product where such a node is loaded still gets a
 finding about a topic nobody *known* publishes, with the unknown nodes named in the message;
-``remap-unused`` is only reported where every node the remap applies to has hints.
+a name computed at run time (dynamic) may be any topic that matches it, so it counts as the
+other side of every such topic, and no finding is about a dynamic name itself;
+``remap-unused`` is only reported where what every node the remap applies to uses is known.
+Findings link to the calls in the sources (and to the hint entries) as related locations.
 Findings are anchored in the analysed launch file: on the ``<node>`` / ``<remap>`` tag, or on
 the ``<include>`` that loads the file where it is (related: the tag itself).
 """
@@ -133,6 +137,10 @@ class _Ctx:
                 if v.hint is not None:
                     out.append(Related(v.hint.path, v.hint.span, f"hint: {n.package}/{n.type} {VERBS[ln.kind]} "
                                                                  f"`{v.name}`" + (f" [{v.type}]" if v.type else "")))
+                if v.source is not None:
+                    out.append(Related(v.source.path, v.source.span,
+                                       f"{n.package}/{n.type} {VERBS[ln.kind]} `{v.name}`"
+                                       + (f" [{v.type}]" if v.type else "") + " here"))
                 if v.remap is not None:
                     out.append(Related(v.remap.path, v.remap.span,
                                        f"{v.remap.label} makes `{v.name}` {self.g.resources[ln.resource].name}"))
@@ -140,7 +148,7 @@ class _Ctx:
 
     def unhinted_in(self, w) -> list[str]:
         if self._unhinted is None:
-            self._unhinted = [n for n in self.g.nodes.values() if not n.hinted and n.condition is not None]
+            self._unhinted = [n for n in self.g.nodes.values() if not n.known and n.condition is not None]
         return sorted(n.name for n in self._unhinted if fm.evaluate(n.condition, w))
 
     def diag(self, code: str, sev: Severity, anchor_loc: Optional[Location], w, message: str,
@@ -159,11 +167,16 @@ def _missing_side(ctx: _Ctx, code: str, have_kind: str, lack_kind: str) -> list[
     out = []
     g = ctx.g
     verb = {"subscribe": "subscribes to", "publish": "publishes"}
+    dyn_lack = [(ln, _dyn_pattern(g.resources[ln.resource].name)) for t in g.topics() if t.dynamic
+                for ln in g.links_of(t.id, (lack_kind,))]
     for r in sorted(g.topics(), key=lambda r: r.name):
+        if r.dynamic:
+            continue  # its run-time name is unknown: nothing to say
         have = g.links_of(r.id, (have_kind,))
         if not have:
             continue
-        lack = g.links_of(r.id, (lack_kind,))
+        # a name computed at run time may be this one: it counts as the other side
+        lack = g.links_of(r.id, (lack_kind,)) + [ln for ln, rx in dyn_lack if rx.match(r.name)]
         cond = fm.conj([fm.disj(ln.condition for ln in have), fm.neg(fm.disj(ln.condition for ln in lack))])
         w = ctx.find(cond)
         if w is None:
@@ -182,8 +195,8 @@ def _missing_side(ctx: _Ctx, code: str, have_kind: str, lack_kind: str) -> list[
                    f"products: {_names(elsewhere)}"
         unknown = ctx.unhinted_in(w)
         if unknown:
-            msg += (f" (unless a node without hints does: {_names(unknown)} — "
-                    "add their hints to the HAROS project file)")
+            msg += (f" (unless a node without hints does: {_names(unknown)} — their sources are not in the "
+                    "workspace: add their hints to the HAROS project file)")
         related = ctx.link_related(users, w, f"{'subscribes to' if have_kind == 'subscribe' else 'publishes'} "
                                              f"{r.name}")
         for ln in lack:
@@ -199,11 +212,17 @@ def _missing_side(ctx: _Ctx, code: str, have_kind: str, lack_kind: str) -> list[
     return out
 
 
+def _dyn_pattern(name: str):
+    import re
+    parts = re.split(r"(\{[^{}]*\})", name)
+    return re.compile("^" + "".join(".+" if p.startswith("{") else re.escape(p) for p in parts) + "$")
+
+
 def _type_mismatch(ctx: _Ctx) -> list[Diagnostic]:
     out = []
     g = ctx.g
     for r in sorted(list(g.topics()) + list(g.services()), key=lambda r: (r.kind, r.name)):
-        if len(r.types) < 2:
+        if len(r.types) < 2 or r.dynamic:
             continue
         types = sorted(r.types)
         found = None
@@ -277,7 +296,7 @@ def _remap_unused(ctx: _Ctx) -> list[Diagnostic]:
 
 def graph_diagnostics(graph: Graph, logic: GraphLogic, analysis=None) -> list[Diagnostic]:
     """The graph checks of one launch file (``graph``: built from ``analysis``, not projected)."""
-    if not any(n.hinted for n in graph.nodes.values()):
+    if not any(n.known for n in graph.nodes.values()):
         return []
     ctx = _Ctx(graph, logic, analysis)
     out: list[Diagnostic] = []

@@ -58,7 +58,7 @@ SECTIONS = {
 }
 KINDS = tuple(SECTIONS.values())
 # HAROS's other per-node keys: known, not about links
-OTHER_KEYS = {"rosname", "nodelet", "fix", "hpl", "create", "base", "args", "remaps", "node_type",
+OTHER_KEYS = {"values", "rosname", "nodelet", "fix", "hpl", "create", "base", "args", "remaps", "node_type",
               "traceability", "conditional"}
 NAME_KEYS = ("name", "topic", "service", "param")
 TYPE_KEYS = ("type", "msg_type", "srv_type", "param_type")
@@ -84,6 +84,9 @@ class NodeHints:
     path: str
     span: Span  # the key in the project file
     entries: list[HintEntry] = field(default_factory=list)
+    # run-time values of what the node's code computes (``values: {real_name: turtle1}``): each
+    # ``{expression}`` of a dynamic name read from the sources is replaced by its value
+    values: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -106,7 +109,7 @@ class ProjectHints:
             if k in out.by_type:
                 mine = out.by_type[k]
                 out.by_type[k] = NodeHints(k, mine.path, mine.span, mine.entries + [
-                    e for e in nh.entries if e not in mine.entries])
+                    e for e in nh.entries if e not in mine.entries], {**nh.values, **mine.values})
             else:
                 out.by_type[k] = nh
         for c, d in other.by_config.items():
@@ -227,6 +230,18 @@ def parse_hints(path: str, text: str) -> ProjectHints:
             sk = scalar(k)
             if sk in SECTIONS:
                 nh.entries += entries_of(sk, SECTIONS[sk], v)
+            elif sk == "values":
+                if isinstance(v, yaml.MappingNode):
+                    for vk, vv in v.value:
+                        a, b = scalar(vk), scalar(vv)
+                        if a is None or b is None or not a.strip():
+                            diag(vk, "`values` maps an expression of the code (as `tvl-lsp extract` shows it "
+                                     "between braces) to its run-time value, both strings")
+                            continue
+                        nh.values[" ".join(a.split()).strip("{}")] = b.strip()
+                elif not (isinstance(v, yaml.ScalarNode) and v.value.strip() in ("", "null", "~")):
+                    diag(v, "`values` maps expressions of the code to their run-time values "
+                            "(`real_name: turtle1`)")
             elif sk in OTHER_KEYS:
                 continue
             else:
@@ -245,6 +260,7 @@ def parse_hints(path: str, text: str) -> ProjectHints:
                     if nh is not None:
                         if nh.key in out.by_type:
                             out.by_type[nh.key].entries += nh.entries
+                            out.by_type[nh.key].values.update(nh.values)
                         else:
                             out.by_type[nh.key] = nh
             elif not (isinstance(v, yaml.ScalarNode) and v.value.strip() in ("", "null", "~")):

@@ -10,7 +10,7 @@ so a user interface can keep its layout while decisions change.
 
 - node ``node:/ns/name`` (``node:/ns/name#pkg/type`` when one name is used by nodes of several
   types in different products);
-- topic ``topic:/name``, service ``service:/name``, parameter ``param:/name``;
+- topic ``topic:/name``, service ``service:/name``, action ``action:/name``, parameter ``param:/name``;
 - link ``KIND:NODE-ID>RESOURCE-ID`` (``#type`` appended when the same node uses the same
   resource in the same way with two types).
 """
@@ -23,9 +23,9 @@ from typing import Optional
 from ..base.formula import Formula
 from ..base.text import Span
 
-LINK_KINDS = ("publish", "subscribe", "service", "client", "read", "write")
+LINK_KINDS = ("publish", "subscribe", "service", "client", "action_server", "action_client", "read", "write")
 RESOURCE_OF_KIND = {"publish": "topic", "subscribe": "topic", "service": "service", "client": "service",
-                    "read": "parameter", "write": "parameter"}
+                    "action_server": "action", "action_client": "action", "read": "parameter", "write": "parameter"}
 
 
 @dataclass(frozen=True)
@@ -51,13 +51,20 @@ class GraphNode:
     count: Optional[int] = None
     # each <node> tag with the condition under which it loads this node
     occurrences: list[tuple[Location, Formula]] = field(default_factory=list)
+    # what it uses was read from its package's sources (tvl_lsp.graph.sources)
+    extracted: bool = False
+
+    @property
+    def known(self) -> bool:
+        """Whether the names it uses are known (from hints, or from its sources)."""
+        return self.hinted or self.extracted
 
 
 @dataclass
 class Resource:
-    """A topic, service or parameter."""
+    """A topic, service, action or parameter."""
     id: str
-    kind: str          # topic | service | parameter
+    kind: str          # topic | service | action | parameter
     name: str
     condition: Optional[Formula]
     # message / service / parameter types: type -> condition (links that use it)
@@ -65,6 +72,8 @@ class Resource:
     value: Optional[str] = None   # parameters set by the launch file (first value)
     locations: list[Location] = field(default_factory=list)  # <param> / <rosparam> tags
     count: Optional[int] = None
+    # a name the code computes at run time: ``{expression}`` stands for what is not known
+    dynamic: bool = False
 
     @property
     def type(self) -> Optional[str]:
@@ -74,12 +83,14 @@ class Resource:
 
 @dataclass
 class Via:
-    """One way a link arises: a hint entry, resolved (and maybe remapped) under a condition."""
+    """One way a link arises: a hint entry or a call in the node's sources, resolved (and maybe
+    remapped) under a condition."""
     name: str                     # the name as the node's code writes it (the hint)
     type: Optional[str]
     condition: Optional[Formula]
     hint: Optional[Location]      # the hint entry
     remap: Optional[Location]     # the <remap> that produced the resolved name (None: not remapped)
+    source: Optional[Location] = None   # the call in the sources (tvl_lsp.graph.sources)
 
 
 @dataclass
@@ -96,9 +107,10 @@ class Link:
 
 @dataclass(frozen=True)
 class RemapUse:
-    """A ``<remap>`` applying to a node under ``condition``; ``used``: the node (per its hints)
-    uses a name that resolves to the remap's ``from``; ``hinted``: the node has hints at all
-    (without them, whether it uses the name is unknown)."""
+    """A ``<remap>`` applying to a node under ``condition``; ``used``: the node (per its hints
+    and sources) uses a name that resolves to the remap's ``from``; ``hinted``: what the node
+    uses is known (hints or sources, no dynamic name: otherwise whether it uses the name is
+    unknown)."""
     node: str          # node id
     from_: str         # resolved in the node's namespace
     to: str
@@ -127,6 +139,9 @@ class Graph:
 
     def services(self) -> list[Resource]:
         return [r for r in self.resources.values() if r.kind == "service"]
+
+    def actions(self) -> list[Resource]:
+        return [r for r in self.resources.values() if r.kind == "action"]
 
     def parameters(self) -> list[Resource]:
         return [r for r in self.resources.values() if r.kind == "parameter"]

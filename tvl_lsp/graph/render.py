@@ -8,6 +8,7 @@ condition in the tooltip and under the label.
 
 from __future__ import annotations
 
+import copy
 import os
 from typing import Optional
 
@@ -15,13 +16,33 @@ from ..base import formula as fm
 from .model import Graph, Location
 
 SCHEMA_VERSION = 1
+OUTGOING = ("publish", "client", "action_client", "write")   # drawn node -> resource
 MAX_LABEL_CONDITION = 60
 
-FILL = {"node": "#ffffff", "topic": "#a3d977", "service": "#8cb8f0", "parameter": "#c9a3e6"}
+FILL = {"node": "#ffffff", "topic": "#a3d977", "service": "#8cb8f0", "action": "#f5c08a", "parameter": "#c9a3e6"}
 
 
 def cond_text(c: Optional[fm.Formula]) -> Optional[str]:
     return None if c is None else str(c)
+
+
+def view(g: Graph, services: bool = True, actions: bool = True, parameters: bool = True,
+         leaf_topics: bool = True) -> Graph:
+    """The graph without some kinds of resources (and their links); ``leaf_topics=False`` also
+    leaves out the topics only published or only subscribed to (rqt_graph's "hide leaf
+    topics": what the thesis's figures show)."""
+    keep_kind = {"topic": True, "service": services, "action": actions, "parameter": parameters}
+    res = {k: r for k, r in g.resources.items() if keep_kind.get(r.kind, True)}
+    if not leaf_topics:
+        pubs = {ln.resource for ln in g.links.values() if ln.kind == "publish"}
+        subs = {ln.resource for ln in g.links.values() if ln.kind == "subscribe"}
+        res = {k: r for k, r in res.items() if r.kind != "topic" or (k in pubs and k in subs)}
+    out = copy.copy(g)
+    out.resources = res
+    out.links = {k: ln for k, ln in g.links.items() if ln.resource in res}
+    out.__dict__.pop("_by_resource", None)
+    out.__dict__.pop("_by_node", None)
+    return out
 
 
 def _loc(loc: Location) -> dict:
@@ -41,7 +62,7 @@ def to_json(g: Graph) -> dict:
     nodes = []
     for n in sorted(g.nodes.values(), key=lambda n: (n.name, n.id)):
         d = {"id": n.id, "name": n.name, "package": n.package, "type": n.type, "namespace": n.namespace,
-             "condition": cond_text(n.condition), "hinted": n.hinted,
+             "condition": cond_text(n.condition), "hinted": n.hinted, "extracted": n.extracted,
              "locations": [_loc(x) for x in n.locations], "hints": [_loc(x) for x in n.hints]}
         if n.note:
             d["note"] = n.note
@@ -51,6 +72,8 @@ def to_json(g: Graph) -> dict:
         out = []
         for r in sorted((r for r in g.resources.values() if r.kind == kind), key=lambda r: r.name):
             d = {"id": r.id, "name": r.name, "condition": cond_text(r.condition)}
+            if r.dynamic:
+                d["dynamic"] = True
             if kind != "parameter" or r.types:
                 d["type"] = r.type
                 d["types"] = [{"type": t, "condition": cond_text(c)} for t, c in sorted(r.types.items())]
@@ -69,14 +92,16 @@ def to_json(g: Graph) -> dict:
              "condition": cond_text(ln.condition),
              "via": [{"name": v.name, "type": v.type, "condition": cond_text(v.condition),
                       "hint": _loc(v.hint) if v.hint else None,
-                      "remap": _loc(v.remap) if v.remap else None} for v in ln.via]}
+                      "remap": _loc(v.remap) if v.remap else None,
+                      "source": _loc(v.source) if v.source else None} for v in ln.via]}
         links.append(counted(d, ln))
     out = {"version": SCHEMA_VERSION, "launch": g.launch, "model": g.model, "hints": list(g.hint_sources),
            "decisions": dict(g.decisions)}
     if g.products is not None:
         out["products"] = g.products
     out.update({"nodes": nodes, "topics": resources("topic"), "services": resources("service"),
-                "parameters": resources("parameter"), "links": links, "notes": list(g.notes)})
+                "actions": resources("action"), "parameters": resources("parameter"), "links": links,
+                "notes": list(g.notes)})
     return out
 
 
@@ -99,15 +124,16 @@ def to_dot(g: Graph, parameters: bool = True) -> str:
              '  edge [fontname="Helvetica", fontsize=9];']
 
     def attrs(kind: str, label: str, cond: Optional[fm.Formula], tip: str) -> str:
-        shape = {"node": "box", "topic": "box", "service": "box", "parameter": "box"}[kind]
-        style = {"node": "filled", "topic": "rounded,filled", "service": "filled", "parameter": "filled"}[kind]
+        shape = {"node": "box", "topic": "box", "service": "box", "action": "box", "parameter": "box"}[kind]
+        style = {"node": "filled", "topic": "rounded,filled", "service": "filled", "action": "rounded,filled",
+                 "parameter": "filled"}[kind]
         if cond is not None:
             style += ",dashed"
             label += "\n[" + _short(str(cond)) + "]"
             tip += "\npresent when: " + str(cond)
         else:
             tip += "\npresent in every product" + (" (of these decisions)" if g.decisions else "")
-        extra = ', peripheries=2' if kind == "service" else ""
+        extra = ', peripheries=2' if kind in ("service", "action") else ""
         return (f"shape={shape}, style={_q(style)}, fillcolor={_q(FILL[kind])}, label={_q(label)}, "
                 f"tooltip={_q(tip)}{extra}")
 
@@ -126,11 +152,11 @@ def to_dot(g: Graph, parameters: bool = True) -> str:
         r = g.resources[ln.resource]
         if r.kind == "parameter" and not parameters:
             continue
-        a, b = (ln.node, ln.resource) if ln.kind in ("publish", "client", "write") else (ln.resource, ln.node)
+        a, b = (ln.node, ln.resource) if ln.kind in OUTGOING else (ln.resource, ln.node)
         ea = []
         tip = f"{g.nodes[ln.node].name} {ln.kind} {r.name}" + (f" [{ln.type}]" if ln.type else "")
-        if ln.kind in ("service", "client"):
-            ea.append('arrowhead="dot"' if ln.kind == "service" else 'arrowhead="normal"')
+        if ln.kind in ("service", "client", "action_server", "action_client"):
+            ea.append('arrowhead="dot"' if ln.kind in ("service", "action_server") else 'arrowhead="normal"')
         if ln.condition is not None:
             ea.append('style="dashed"')
             ea.append(f"label={_q(_short(str(ln.condition)))}")
@@ -189,7 +215,7 @@ def to_mermaid(g: Graph, parameters: bool = True) -> str:
         if n.condition is not None:
             conditional.append(i)
     shapes = {"topic": ('(["', '"])', "t", "topic"), "service": ('{{"', '"}}', "s", "service"),
-              "parameter": ('[/"', '"/]', "p", "param")}
+              "action": ('[["', '"]]', "a", "action"), "parameter": ('[/"', '"/]', "p", "param")}
     for r in sorted(g.resources.values(), key=lambda r: (r.kind, r.name)):
         if r.kind == "parameter" and not parameters:
             continue
@@ -202,7 +228,7 @@ def to_mermaid(g: Graph, parameters: bool = True) -> str:
         r = g.resources[ln.resource]
         if r.kind == "parameter" and not parameters:
             continue
-        a, b = (ln.node, ln.resource) if ln.kind in ("publish", "client", "write") else (ln.resource, ln.node)
+        a, b = (ln.node, ln.resource) if ln.kind in OUTGOING else (ln.resource, ln.node)
         if ln.condition is None:
             lines.append(f"  {ids[a]} --> {ids[b]}")
         else:
@@ -210,6 +236,7 @@ def to_mermaid(g: Graph, parameters: bool = True) -> str:
     lines += ["  classDef rosnode fill:#ffffff,stroke:#333333,color:#000000",
               "  classDef topic fill:#a3d977,stroke:#333333,color:#000000",
               "  classDef service fill:#8cb8f0,stroke:#333333,color:#000000",
+              "  classDef action fill:#f5c08a,stroke:#333333,color:#000000",
               "  classDef param fill:#c9a3e6,stroke:#333333,color:#000000",
               "  classDef conditional stroke-dasharray:5 5"]
     if conditional:

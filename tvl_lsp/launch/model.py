@@ -27,6 +27,9 @@ class Subst:
     args: tuple[str, ...]
     span: Span
     attr: str
+    # the exact range of the argument name (X of ``$(var X)``, the 'x' of a Python
+    # ``LaunchConfiguration('x')``) when the front end knows it; None: find it in the text
+    name_span: Optional[Span] = None
 
 
 @dataclass(eq=False)
@@ -161,6 +164,65 @@ class IncludeFact:
     package: Optional[str] = None
     children: list["IncludeFact"] = field(default_factory=list)
     namespace: str = "/"
+    outside: bool = False      # outside the workspace: not read (:func:`outside_reach`)
+
+
+class Reach:
+    """The folders a launch analysis reads in (the workspace and its packages), their links
+    resolved once, and the answers for the paths asked about (an include bomb asks thousands
+    of times)."""
+
+    def __init__(self, folders):
+        import os
+        self.folders = list(folders)
+        real = set()
+        for f in self.folders:
+            try:
+                real.add(os.path.realpath(f).rstrip(os.sep) or os.sep)
+            except (OSError, ValueError):
+                pass
+        self._prefixes = tuple(sorted(r if r.endswith(os.sep) else r + os.sep for r in real))
+        self._roots = real
+        self._memo: dict[str, bool] = {}
+
+    def outside(self, path: str) -> bool:
+        """An existing file outside the reach (links resolved)?"""
+        got = self._memo.get(path)
+        if got is None:
+            import os
+            try:
+                real = os.path.realpath(path)
+                got = os.path.lexists(path) and not (real in self._roots or real.startswith(self._prefixes))
+            except (OSError, ValueError):
+                got = False
+            if len(self._memo) > 100_000:
+                self._memo.clear()
+            self._memo[path] = got
+        return got
+
+
+def outside_reach(path: str, reach) -> bool:
+    """The one rule for includes outside the workspace, in every command (``--check``, the
+    editor, ``tvl-lsp launch``, ``graph``, the configurator): a launch analysis reads a file
+    only when it lies -- once its symbolic links are resolved -- in its *reach*: the workspace
+    and the folders of the packages ``$(find)`` / ``$(find-pkg-share)`` resolve to (see
+    docs/architecture.md, "Includes outside the workspace").  True for an existing file outside
+    it (a missing one is ``include-not-found``'s business).  ``reach``: a :class:`Reach`, a
+    list of folders, or None (no reach: nothing is outside)."""
+    if reach is None:
+        return False
+    if not isinstance(reach, Reach):
+        reach = Reach(reach)
+    return reach.outside(path)
+
+
+def outside_message(shown_name: str, path: str) -> str:
+    """``include-outside-workspace``'s message."""
+    import os
+    how = " (it is a symbolic link to a file outside it)" if os.path.islink(path) else ""
+    return (f"'{shown_name}' is outside the workspace{how}: tvl-lsp does not read files outside the workspace "
+            "and its packages, so what it starts is not analysed, listed or drawn (move it into a package of "
+            "the workspace, or open the workspace that holds it)")
 
 
 @dataclass
@@ -201,6 +263,9 @@ class LaunchAnalysis:
     # ROS 2: (path, span) of if/unless values tvl-lsp cannot compute in some case (e.g. a launch
     # configuration a file that includes this one sets): neither dead nor constant
     unknown_conditions: list = field(default_factory=list)
+    # False: the front end could not follow all of the file (a Python launch file where it
+    # declined): an argument it did not see declared may be declared there
+    complete: bool = True
 
 
 @dataclass

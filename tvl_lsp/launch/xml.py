@@ -16,13 +16,13 @@ from lxml import etree
 from ..base.diagnostics import Diagnostic, Severity, register
 from ..base.text import LineIndex, Pos, Span
 
-XML_SYNTAX = register("xml-syntax", Severity.ERROR, "The file is not well-formed XML", "launch")
+XML_SYNTAX = register("xml-syntax", Severity.ERROR, "The file is not well-formed XML.", "launch")
 XML_ENTITY = register("xml-entity-declaration", Severity.ERROR,
-                      "The file declares XML entities (refused: entities are never expanded)", "launch")
+                      "The file declares XML entities (refused: entities are never expanded).", "launch")
 XML_TOO_LARGE = register("launch-file-too-large", Severity.ERROR,
-                         "The file is too large to analyse", "launch")
+                         "The file is too large to analyse.", "launch")
 XML_TOO_DEEP = register("launch-too-deep", Severity.ERROR,
-                        "Elements are nested too deeply to analyse", "launch")
+                        "Elements are nested too deeply to analyse.", "launch")
 
 MAX_TEXT = 2_000_000       # characters (the biggest real launch files have ~20,000; the front ends
                            # spend a few microseconds per character of a value: YAML, shlex, $(...))

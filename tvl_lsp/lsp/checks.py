@@ -11,13 +11,14 @@ from pathlib import Path
 from typing import Callable, Optional, Sequence
 
 from ..base.diagnostics import Diagnostic
+from ..base.files import read_text_or_none
 
 log = logging.getLogger("tvl_lsp.server")
 
 Reader = Callable[[str], Optional[str]]
 
 LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".test", ".launch.yaml", ".launch.yml", "_launch.xml",
-                   "_launch.yaml", "_launch.yml")
+                   "_launch.yaml", "_launch.yml", ".launch.py", "_launch.py")
 
 
 def file_kind(path: str) -> Optional[str]:
@@ -47,14 +48,23 @@ def _root_for(path: str, roots: Sequence[str]) -> Optional[str]:
     return best
 
 
-def parse_document(kind: str, path: str, text: str, read: Reader, roots: Sequence[str]):
-    """The front end's result for a document: a TvlResult (model) or a LaunchAnalysis."""
+def parse_document(kind: str, path: str, text: str, read: Reader, roots: Sequence[str],
+                   features: Optional[Sequence[str]] = None):
+    """The front end's result for a document: a TvlResult (model) or a LaunchAnalysis
+    (``features``: those of the paired model, the free args of its symbolic analysis as in
+    ``--check``, with the file's own boolean top-level args)."""
     if kind in ("tvl", "uvl", "dimacs"):
         from ..analysis.formats import parse_any_model
         return parse_any_model(text, path, read_file=read, fmt=kind)
     if kind == "launch":
         from ..launch import analyse_any
-        return analyse_any(text, path, workspace_root=_root_for(path, roots), read_file=read)
+        root = _root_for(path, roots)
+        if features is not None:
+            from ..project.check import free_top_args
+            known = set(features)
+            features = list(features) + [n for n in free_top_args(text, path, root, read, paired=True)
+                                         if n not in known]
+        return analyse_any(text, path, workspace_root=root, read_file=read, features=features)
     return None
 
 
@@ -86,10 +96,39 @@ def depends_on(ls, doc, changed: str) -> bool:
     if doc.kind == "launch":
         if ck in ("tvl", "uvl", "dimacs"):
             return _norm(changed) in {_norm(m) for m in ls.models_for_launch(doc.path)}
+        if ck is None and is_node_source(changed):
+            # a node's source (or build file): the graph checks read it; same workspace only
+            return ls.workspace_root_for(changed) == ls.workspace_root_for(doc.path)
         return ck == "launch"
     if doc.kind in ("tvl", "uvl", "dimacs") and ck == "launch":
         return _norm(doc.path) in {_norm(m) for m in ls.models_for_launch(changed)}
     return False
+
+
+def is_node_source(path: str) -> bool:
+    """A C++ / Python source, or a build file, of a ROS package (a package.xml above it)."""
+    import os
+    from ..graph.sources import source_language
+    base = os.path.basename(path)
+    if source_language(path) is None and base not in ("CMakeLists.txt", "setup.py", "setup.cfg"):
+        return False
+    d = os.path.dirname(_norm(path))
+    for _ in range(30):
+        hit = _PKG_DIRS.get(d)
+        if hit is None:
+            hit = _PKG_DIRS[d] = os.path.isfile(os.path.join(d, "package.xml"))
+            if len(_PKG_DIRS) > 20000:
+                _PKG_DIRS.clear()
+        if hit:
+            return True
+        nd = os.path.dirname(d)
+        if nd == d:
+            return False
+        d = nd
+    return False
+
+
+_PKG_DIRS: dict[str, bool] = {}
 
 
 def _norm(p: str) -> str:
@@ -109,11 +148,9 @@ class SnapshotReader:
         p = str(Path(path))
         if p in self.texts:
             return self.texts[p]
-        try:
-            with open(p, encoding="utf-8", errors="replace") as fh:
-                return fh.read()
-        except OSError:
-            return None
+        # regular files within the size cap only: a FIFO named *.launch in the workspace blocked
+        # every check, a link to /dev/zero was read without bound (issue #28)
+        return read_text_or_none(p)
 
 
 _LAST_EPOCH: list = [None]

@@ -176,17 +176,62 @@ def create_server() -> TvlLanguageServer:
     return server
 
 
+def _stop_on_sigterm(server) -> None:
+    """SIGTERM (an editor or a session manager stopping the server): its worker processes and
+    counting processes are killed with it, at once (they would otherwise notice within a
+    second, or finish a compilation first)."""
+    import signal
+    from ..base.children import kill_all
+    from ..base.pools import kill_processes
+
+    def on_term(signum, frame):
+        for pool in (getattr(server, "_proc_pool", None), getattr(server, "_check_pool", None)):
+            kill_processes(pool)
+        kill_all()
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except Exception:  # (a reentrant write interrupted by the signal)
+                pass
+        os._exit(128 + signal.SIGTERM)
+    try:
+        signal.signal(signal.SIGTERM, on_term)
+    except (ValueError, OSError):  # not the main thread (tests)
+        pass
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] in ("-h", "--help"):
         print(__doc__)
         return 0
+    if argv and argv[0] == "--stdio":
+        argv = argv[1:]
+    tcp = None
+    if argv and argv[0] == "--tcp":
+        target = argv[1] if len(argv) > 1 else "127.0.0.1:2087"
+        host, _, port = target.rpartition(":")
+        if not port.isdigit() or not 0 <= int(port) <= 65535:
+            print(f"tvl-lsp: bad port {port!r} (use --tcp [HOST:]PORT)", file=sys.stderr)
+            return 2
+        tcp = (host or "127.0.0.1", int(port))
+    elif argv:
+        print(f"tvl-lsp: unknown arguments {' '.join(argv)} (see tvl-lsp --help)", file=sys.stderr)
+        return 2
+    from ..base.envvars import log_level
+    level = log_level()  # (an unknown TVL_LSP_LOG is explained on stderr, not fatal)
     logfile = os.environ.get("TVL_LSP_LOGFILE")
+    stream = None
     if logfile:
-        logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING"), filename=logfile,
-                            format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+        from ..base.safewrite import open_append
+        try:  # (a regular file: a FIFO would block the start)
+            stream = open_append(logfile)
+        except OSError as ex:
+            print(f"tvl-lsp: TVL_LSP_LOGFILE: {ex}; logging on stderr", file=sys.stderr)
+    if stream is not None:
+        logging.basicConfig(level=level, stream=stream, format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     else:
-        logging.basicConfig(level=os.environ.get("TVL_LSP_LOG", "WARNING"), stream=sys.stderr)
+        logging.basicConfig(level=level, stream=sys.stderr)
     server = create_server()
     # parsed models are large, long-lived object graphs: collect the young generation less
     # often and keep start-up objects out of full collections (fewer, shorter GC pauses)
@@ -197,33 +242,26 @@ def main(argv: list[str] | None = None) -> int:
     bound_heap()  # big texts come and go as the user types: give their memory back
     if os.environ.get("TVL_LSP_WATCHDOG"):
         start_watchdog(os.environ["TVL_LSP_WATCHDOG"])
-    if argv and argv[0] == "--stdio":
-        argv = argv[1:]
-    if argv and argv[0] == "--tcp":
-        target = argv[1] if len(argv) > 1 else "127.0.0.1:2087"
-        host, _, port = target.rpartition(":")
-        try:
-            port_n = int(port)
-        except ValueError:
-            print(f"tvl-lsp: bad port {port!r} (use --tcp [HOST:]PORT)", file=sys.stderr)
-            return 2
-        from .transport import serve_tcp
-        serve_tcp(server, host or "127.0.0.1", port_n)
-        return server.protocol.exit_code or 0
-    if argv:
-        print(f"tvl-lsp: unknown arguments {' '.join(argv)} (see tvl-lsp --help)", file=sys.stderr)
-        return 2
-    from .transport import serve_stdio
+    _stop_on_sigterm(server)
     try:
-        serve_stdio(server)
+        if tcp is not None:
+            from .transport import serve_tcp
+            serve_tcp(server, *tcp)
+            return server.protocol.exit_code or 0
+        from .transport import serve_stdio
+        try:
+            serve_stdio(server)
+        finally:
+            # the client went away (end of input, or exit): stop the workers now
+            server.restart_proc_pool()
+            server.restart_check_pool()
+            server.stop_background_pool()
+        # ``exit`` after ``shutdown``: 0, without: 1 (LSP); the end of the input: 0
+        return server.protocol.exit_code or 0
     finally:
-        # the client went away (end of input, or exit): stop the workers now
-        server.restart_proc_pool()
-        server.restart_check_pool()
-        server.stop_background_pool()
-    # ``exit`` after ``shutdown``: 0, without: 1 (LSP); the end of the input: 0
-    return server.protocol.exit_code or 0
-
+        # the interpreter's teardown collects what is left, extension types included: frozen,
+        # they outlived it (nanobind: "leaked N instances ... py_d4" on every exit)
+        gc.unfreeze()
 
 if __name__ == "__main__":
     sys.exit(main())

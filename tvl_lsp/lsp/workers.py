@@ -171,9 +171,13 @@ def start_watchdog(path: str, threshold: float = 0.3) -> None:
             stalled = time.monotonic() - beat[0]
             if stalled > threshold:
                 frame = sys._current_frames().get(main_id)
-                with open(path, "a") as fh:
-                    fh.write(f"--- loop blocked {stalled:.2f}s\n")
-                    fh.write("".join(traceback.format_stack(frame)[-12:]))
+                from ..base.safewrite import open_append
+                try:  # (a regular file: never a FIFO that would block the watchdog)
+                    with open_append(path) as fh:
+                        fh.write(f"--- loop blocked {stalled:.2f}s\n")
+                        fh.write("".join(traceback.format_stack(frame)[-12:]))
+                except OSError:
+                    return
     threading.Thread(target=watch, daemon=True).start()
     _WATCHDOG.append(heartbeat)
 

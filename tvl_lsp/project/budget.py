@@ -27,7 +27,7 @@ from ..base.text import Pos, Span
 
 BUDGET_EXCEEDED = register(
     "analysis-budget-exceeded", Severity.ERROR,
-    "a file's check used more CPU time or memory than its budget; it was stopped, the rest was checked",
+    "A file's check used more CPU time or memory than its budget; it was stopped, the rest was checked.",
     "workspace")
 
 CPU_SECONDS = 30.0            # per file, CPU time (the SAT analyses have their own, smaller budgets)
@@ -48,9 +48,9 @@ class BudgetExceeded(BaseException):  # not an Exception: no "except Exception" 
 
 
 def _data_in_use() -> int:
-    try:
-        with open("/proc/self/statm", "rb") as fh:  # size resident shared text lib data dt (pages)
-            return int(fh.read().split()[5]) * os.sysconf("SC_PAGE_SIZE")
+    from ..base.files import read_head
+    try:  # size resident shared text lib data dt (pages)
+        return int((read_head("/proc/self/statm", 256) or b"").split()[5]) * os.sysconf("SC_PAGE_SIZE")
     except (OSError, ValueError, IndexError):
         return 0
 

@@ -116,14 +116,18 @@ def _internal(path: str, msg: str) -> Diagnostic:
 from ..base.diagnostics import register as _register  # noqa: E402
 
 INTERNAL_ERROR = _register("internal-error", Severity.ERROR,
-                           "tvl-lsp failed while analysing a file (a bug: please report it)", "workspace")
+                           "The check of a file failed inside tvl-lsp (a bug: please report it).", "workspace")
 FILE_UNREADABLE = _register(
     "file-unreadable", Severity.ERROR,
-    "a file in the workspace that tvl-lsp must not read (a device, a FIFO, a socket) or that is over the size cap",
+    "A file in the workspace that tvl-lsp must not read (a device, a FIFO, a socket) or that is over the size cap.",
+    "workspace")
+FILE_NOT_CHECKED = _register(
+    "file-not-checked", Severity.ERROR,
+    "A file named on the command line that --check does not check (not a model, launch file or HAROS project file).",
     "workspace")
 MODEL_NOT_CHECKABLE = _register(
     "paired-model-invalid", Severity.INFORMATION,
-    "The launch file's model has syntax errors: the checks against it wait until they are fixed", "cross")
+    "The launch file's model has syntax errors: the checks against it wait until they are fixed.", "cross")
 
 # errors after which the model's structure may be incomplete (features missing or misplaced):
 # checking a launch file against it would report args "naming no feature" that are fine
@@ -153,7 +157,8 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                  timeout: Optional[float] = 10.0, hints=None, configs: Optional[list[str]] = None,
                  partial: bool = False, solver: bool = True) -> list[Diagnostic]:
     """A launch file's diagnostics: its own, the cross-checks of each pairing, and, with node
-    ``hints`` (:meth:`Workspace.hints_for`), the computation graph's checks.  ROS 1 or ROS 2,
+    ``hints`` (:meth:`Workspace.hints_for`: a project file names it), the computation graph's
+    checks, on the hints and the workspace's sources.  ROS 1 or ROS 2,
     by the file's dialect; ``partial``: a ROS 2 file other launch files include (see
     :func:`tvl_lsp.launch.ros2.analyse_launch2`), for its check without a model.  Without
     ``solver``: only the diagnostics that need no SAT question (see :func:`cross_check`)."""
@@ -198,7 +203,9 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                 selectors = {k: p.selectors for k, p in pairings_of_choices.items() if p.selectors is not None}
                 features = [f for f in features if f not in pairings_of_choices]
         else:
-            features = tops()
+            # a Python launch file's free arguments come from the analysis itself (its file is
+            # interpreted once); an XML / YAML file's from a parse
+            features = tops() if not path.endswith(".py") else None
         try:
             la = analyse_any(text, path, workspace_root=root, read_file=read_file, features=features,
                              choices=selectors, dialect=dialect, partial=partial and info is None,
@@ -232,17 +239,21 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                 out += cross_check(la, None, None, launch_text=text, solver=solver)
         except Exception as exc:
             out.append(_internal(path, f"cross-check failed: {exc!r}"))
-        if hints and solver:
-            out += _graph_findings(la, hints, configs, info, features, p, root or os.path.dirname(path))
+        if solver and hints is not None and (hints or hints.sources):
+            out += _graph_findings(la, hints, configs, info, features, p, root or os.path.dirname(path), read_file)
     return out
 
 
-def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing, root: str) -> list[Diagnostic]:
-    """The computation graph's checks (tvl_lsp.graph.checks) of one pairing."""
+def _graph_findings(la, hints, configs, info, features: list[str], p: Pairing, root: str,
+                    read_file=None) -> list[Diagnostic]:
+    """The computation graph's checks (tvl_lsp.graph.checks) of one pairing: what the nodes use
+    comes from the workspace's sources and the node hints."""
     from ..graph import GraphLogic, build_graph, graph_diagnostics
+    from .sources import extraction_for, node_packages
     try:
-        g = build_graph(la, hints, configs)
-        if not any(n.hinted for n in g.nodes.values()):
+        ex = extraction_for(root, read_file, node_packages(la))
+        g = build_graph(la, hints, configs, ex.by_node_type() if ex is not None else None)
+        if not any(n.known for n in g.nodes.values()):
             return []
         enc = info.analysis.encoding if info is not None else None
         with GraphLogic(enc, features, info.analysis if info is not None else None) as logic:
@@ -377,12 +388,34 @@ def _dedupe_sort(diags: Iterable[Diagnostic]) -> list[Diagnostic]:
     return out
 
 
+def _not_checked(paths: Sequence[str]) -> list[Diagnostic]:
+    """A diagnostic for each file named in ``paths`` that is not checked, saying what it was
+    taken to be and why (a folder's walk passes over such files silently): an error -- the
+    user asked for a check that does not happen -- but a warning for a Python launch file,
+    which is a launch file tvl-lsp does not run."""
+    from ..base.text import Pos, Span
+    from .workspace import explicit_skip_reason
+    out = []
+    for p in paths:
+        if not os.path.lexists(p) or os.path.isdir(p):
+            continue
+        why = explicit_skip_reason(p)
+        if why is None:
+            continue
+        code = FILE_UNREADABLE if why.startswith("cannot be read") else FILE_NOT_CHECKED
+        sev = Severity.WARNING if p.endswith(".launch.py") else Severity.ERROR
+        out.append(Diagnostic(code, sev, norm(p), Span(Pos(0, 0), Pos(0, 0)), f"{os.path.basename(p)} is not "
+                              f"checked: {why}"))
+    return out
+
+
 def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
          timeout: Optional[float] = 10.0) -> tuple[list[_Unit], list[Diagnostic], int]:
     """Discover, pair and split the work into units.  Returns (units, diagnostics found while
     pairing, number of files)."""
     read_file = read_file or default_read_file
     targets = discover_files(paths)
+    named = _not_checked(paths)
     roots: dict[str, list[str]] = {}
     for p in paths:
         roots.setdefault(find_workspace_root(p), []).append(p)
@@ -402,7 +435,7 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
                     best = (r, ws)
         return best or workspaces[0]
 
-    pre: list[Diagnostic] = []
+    pre: list[Diagnostic] = list(named)
     target_yamls = set(targets.yamls)
     for _, ws in workspaces:
         for pf in ws.projects:
@@ -418,7 +451,7 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
         root_of[lf] = r
         try:
             h, c = ws.hints_for(lf, named_only=True)
-            if h:
+            if h or h.sources:  # hints, or a project file names it (its nodes' sources may say)
                 hints_of[lf] = (lf, h, c)
         except Exception as exc:
             pre.append(_internal(lf, f"reading node hints failed: {exc!r}"))
@@ -473,10 +506,17 @@ def check_paths(paths: Sequence[str], read_file: Optional[ReadFile] = None, jobs
         # heaviest first (models with many launch files), results merged in submission order
         order = sorted(range(len(units)), key=lambda i: -len(units[i].launches) - (4 if units[i].model else 0))
         results: dict[int, list[Diagnostic]] = {}
-        with ProcessPoolExecutor(max_workers=jobs) as ex:
+        from ..base.children import watch_parent  # (the workers die with this process)
+        from ..base.pools import kill_pool
+        ex = ProcessPoolExecutor(max_workers=jobs, initializer=watch_parent)
+        try:
             futs = {i: ex.submit(_run_unit, units[i]) for i in order}
             for i in order:
                 results[i] = futs[i].result()
+        except BaseException:  # Ctrl-C, SIGTERM: the workers are killed, not waited for
+            kill_pool(ex)
+            raise
+        ex.shutdown()
         for i in range(len(units)):
             out += results[i]
     return _dedupe_sort(out)
@@ -550,6 +590,7 @@ def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile
         if text is not None and norm(p) == path:
             return text
         return base_read(p)
+    read.texts = getattr(base_read, "texts", None)  # unsaved sources (the graph checks read them)
 
     if text is None:
         text = read(path)

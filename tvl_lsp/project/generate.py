@@ -23,9 +23,12 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, Mapping, Optional, Sequence
+from typing import Callable, Iterable, Mapping, Optional, Sequence
 
 from xml.sax.saxutils import escape
+
+from ..base.files import read_text_or_none
+from ..base.safewrite import WriteError, check_paths, write_paths
 
 
 def quoteattr(value: str) -> str:
@@ -62,8 +65,8 @@ def find_package(path: str, read_file=None, stop_at: Sequence[str] = ()) -> tupl
         try:
             if read_file is not None:
                 text = read_file(str(manifest))
-            elif manifest.is_file():
-                text = manifest.read_text(encoding="utf-8", errors="replace")
+            else:
+                text = read_text_or_none(str(manifest))  # regular files within the size cap only
         except OSError:
             text = None
         if text:
@@ -175,6 +178,116 @@ def choice_values(product: Mapping[str, bool], choices: Mapping[str, Mapping[str
     return out
 
 
+def render_configuration_python(product: Mapping[str, bool], features: Sequence[str], include_file: str,
+                                indent: str = "    ", choice_values: Optional[Mapping[str, str]] = None,
+                                source: str = "") -> str:
+    """A ROS 2 Python configuration launch file: the generic file (Python, XML or YAML: ros2/launch's
+    ``AnyLaunchDescriptionSource``) included with each feature arg set and each ``<choice>`` arg
+    set to the selected alternative.  ``include_file`` is a Python expression (see
+    :func:`python_include_target`)."""
+    args = [(f, "true" if product.get(f) else "false") for f in features]
+    args += list((choice_values or {}).items())
+    lines = [f'"""One product of {source or "the model"}: written by tvl-lsp generate."""', "",
+             "from launch import LaunchDescription",
+             "from launch.actions import IncludeLaunchDescription",
+             "from launch.launch_description_sources import AnyLaunchDescriptionSource"]
+    if "FindPackageShare" in include_file:
+        lines.append("from launch.substitutions import PathJoinSubstitution")
+        lines.append("from launch_ros.substitutions import FindPackageShare")
+    elif "ThisLaunchFileDir" in include_file:
+        lines.append("from launch.substitutions import PathJoinSubstitution, ThisLaunchFileDir")
+    lines += ["", "", "def generate_launch_description():", f"{indent}return LaunchDescription([",
+              f"{indent * 2}IncludeLaunchDescription(", f"{indent * 3}AnyLaunchDescriptionSource({include_file}),",
+              f"{indent * 3}launch_arguments=["]
+    for name, value in args:
+        lines.append(f"{indent * 4}({name!r}, {value!r}),")
+    lines += [f"{indent * 3}],", f"{indent * 2}),", f"{indent}])"]
+    return "\n".join(lines) + "\n"
+
+
+def python_include_target(generic_path: str, package: Optional[str], package_dir: Optional[str],
+                          out_dir: Optional[str] = None) -> str:
+    """How a Python configuration file names the generic file: the package's share folder
+    (``FindPackageShare``) when it is in a package, else the path relative to the configuration
+    file (``ThisLaunchFileDir``)."""
+    gp = Path(generic_path).absolute()
+    if package and package_dir:
+        try:
+            rel = gp.relative_to(Path(package_dir).absolute())
+            return f"PathJoinSubstitution([FindPackageShare({package!r}), {rel.as_posix()!r}])"
+        except ValueError:
+            pass
+    if out_dir:
+        rel = os.path.relpath(gp, Path(out_dir).absolute())
+        return f"PathJoinSubstitution([ThisLaunchFileDir(), {Path(rel).as_posix()!r}])"
+    return repr(gp.as_posix())
+
+
+# ------------------------------------------------------------------ launch formats
+
+@dataclass(frozen=True)
+class ConfigWriter:
+    """How configuration files of one launch format are written: the generate hook.  A launch
+    dialect registers its writer (:func:`register_writer`); :func:`plan_configurations` asks
+    :func:`writer_for` which one a generic file gets.
+
+    ``include(generic_path, package, package_dir, out_dir)``: how a configuration names the
+    generic file; ``render(product, features, include, indent, choice_values, source)``: the
+    text of one configuration (``features``: the feature args, ``choice_values``: ROS 2
+    ``<choice>`` args and their values, ``source``: the generic file's name)."""
+    name: str
+    suffix: str
+    include: Callable[..., str]
+    render: Callable[..., str]
+    ros2: bool = True       # ros2/launch semantics: <choice> args, args passed on by includes
+    indent: str = "  "
+
+
+def _xml1(product, features, include, indent, choice_values, source):
+    return render_configuration(product, features, include, indent)
+
+
+def _xml2(product, features, include, indent, choice_values, source):
+    return render_configuration_ros2(product, features, include, indent, choice_values)
+
+
+def _py(product, features, include, indent, choice_values, source):
+    return render_configuration_python(product, features, include, indent, choice_values, source)
+
+
+WRITERS: dict[str, ConfigWriter] = {}
+
+
+def register_writer(w: ConfigWriter) -> None:
+    WRITERS[w.name] = w
+
+
+register_writer(ConfigWriter("ros1", ".launch", lambda g, p, d, o: include_target(g, p, d, o, "ros1"), _xml1,
+                             ros2=False))
+register_writer(ConfigWriter("ros2", ".launch.xml", lambda g, p, d, o: include_target(g, p, d, o, "ros2"), _xml2))
+register_writer(ConfigWriter("python", ".launch.py", python_include_target, _py, indent="    "))
+
+PYTHON_SUFFIXES = (".launch.py", "_launch.py")
+
+
+def writer_for(dialect: str = "ros1", generic_path: str = "", fmt: Optional[str] = None) -> ConfigWriter:
+    """The writer for configurations of ``generic_path`` (read as ``dialect``): ``fmt`` when
+    given ("xml": the dialect's XML, "python", or any registered name), else the dialect's XML --
+    for a Python generic file too: an XML launch file that includes the ``.launch.py`` with the
+    product's arguments (issue #25; ros2 launch's XML front end includes Python files)."""
+    if fmt in (None, "", "auto"):
+        fmt = "xml"
+    if fmt == "xml":
+        fmt = "ros2" if dialect == "ros2" else "ros1"
+    w = WRITERS.get(fmt)
+    if w is None:
+        raise GenerateError(f"no configuration format {fmt!r} (known: xml, {', '.join(sorted(WRITERS))})")
+    if w.ros2 and dialect != "ros2" and fmt == "python":
+        raise GenerateError("Python configuration files are ROS 2 launch files: the generic file is read as "
+                            "ROS 1 (roslaunch) XML")
+    return w
+
+
 def inside(path: str, roots: Iterable[str]) -> bool:
     """Is ``path`` (after resolving ``..`` and symlinks) inside one of ``roots``?"""
     try:
@@ -211,35 +324,42 @@ def resolve_folder(folder: Optional[str], generic_path: str, roots: Sequence[str
 def plan_configurations(products: Iterable, features: Sequence[str], generic_path: str, out_dir: str,
                         roots: Sequence[str] = (), package: Optional[str] = None,
                         package_dir: Optional[str] = None, prefix: Optional[str] = None,
-                        indent: str = "  ", limit: Optional[int] = None,
+                        indent: Optional[str] = None, limit: Optional[int] = None,
                         omit: Iterable[str] = (), dialect: str = "ros1",
-                        choices: Optional[Mapping[str, Mapping[str, str]]] = None) -> list[GeneratedFile]:
+                        choices: Optional[Mapping[str, Mapping[str, str]]] = None,
+                        writer: Optional[ConfigWriter] = None,
+                        names: Optional[Sequence[str]] = None) -> list[GeneratedFile]:
     """One :class:`GeneratedFile` per product (at most ``limit``), sorted by path.  ``dialect``
     "ros2": ROS 2 files (``.launch.xml``, ``$(find-pkg-share)``, args passed to the include;
-    ``choices``: see :func:`ros2_choices`)."""
+    ``choices``: see :func:`ros2_choices`); ``writer``: the launch format to write (default
+    :func:`writer_for` the dialect and the generic file).  ``names``: the file name of each
+    product (a plain name, no folder), instead of one made from its selected features."""
     if package is None and package_dir is None:
         package, package_dir = find_package(generic_path, stop_at=roots)
-    target = include_target(generic_path, package, package_dir, out_dir, dialect)
+    w = writer or writer_for(dialect, generic_path)
+    indent = w.indent if indent is None else indent
+    target = w.include(generic_path, package, package_dir, out_dir)
     covered = {f for by in (choices or {}).values() for f in by.values()}
-    if dialect == "ros2":
+    if w.ros2:
         features = [f for f in features if f not in (choices or {}) and f not in covered]
     prefix = prefix or Path(generic_path).name.split(".")[0]
+    source = Path(generic_path).name
     files: dict[str, GeneratedFile] = {}
     seen: dict[str, GeneratedFile] = {}
     for i, prod in enumerate(products):
         if limit is not None and i >= limit:
             break
         p = normalise_product(prod, features)
-        if dialect == "ros2":
+        if w.ros2:
             cv = choice_values(prod if isinstance(prod, Mapping) else {x: True for x in prod}, choices or {})
             named = dict(p)
             named.update({v: True for v in cv.values()})
-            name = configuration_name(named, list(features) + list(cv.values()), prefix, omit, ".launch.xml")
-            path = str(Path(out_dir) / name)
-            text = render_configuration_ros2(p, features, target, indent, cv)
+            name = configuration_name(named, list(features) + list(cv.values()), prefix, omit, w.suffix)
         else:
-            path = str(Path(out_dir) / configuration_name(p, features, prefix, omit))
-            text = render_configuration(p, features, target, indent)
+            cv = {}
+            name = configuration_name(p, features, prefix, omit, w.suffix)
+        path = str(Path(out_dir) / (names[i] if names is not None else name))
+        text = w.render(p, features, target, indent, cv, source)
         if roots and not inside(path, roots):
             raise GenerateError(f"{path} would be outside the workspace")
         # one file per product: two products with one name would overwrite each other (names
@@ -250,6 +370,32 @@ def plan_configurations(products: Iterable, features: Sequence[str], generic_pat
             raise GenerateError(_collision_message(path, other.product, p, features))
         seen[key] = files[path] = GeneratedFile(path, text, p)
     return [files[k] for k in sorted(files)]
+
+
+def write_configurations(files: Iterable, roots: Sequence[str]) -> list[str]:
+    """Write planned configuration files (:class:`GeneratedFile` or ``{"path", "text"}``
+    dicts) inside ``roots``: the one writer of the three hosts (``tvl-lsp generate``, the
+    editor command, the configurator's Generate).  Atomic, never through a symbolic link, the
+    output folder opened once from the root (:mod:`tvl_lsp.base.safewrite`); every target is
+    checked before the first is written.  Returns the paths written; raises
+    :class:`~tvl_lsp.base.safewrite.WriteError` (an ``OSError`` whose text is one line)."""
+    texts: dict[str, str] = {}
+    for f in files:
+        path, text = (f["path"], f["text"]) if isinstance(f, Mapping) else (f.path, f.text)
+        texts[path] = text
+    if not roots:
+        raise WriteError(next(iter(texts), "?"), "no workspace folder to write in")
+    try:
+        return write_paths(texts, within=list(roots))
+    except WriteError as exc:
+        exc.total = len(texts)  # (for safewrite.summary)
+        raise
+
+
+def check_configurations(files: Iterable, roots: Sequence[str]) -> None:
+    """Raise WriteError when a planned file could not be written safely (a link, a FIFO, a
+    folder that is a link, outside ``roots``): for a host that lets the editor write them."""
+    check_paths([f["path"] if isinstance(f, Mapping) else f.path for f in files], within=list(roots))
 
 
 def _collision_message(path: str, a: Mapping[str, bool], b: Mapping[str, bool], features: Sequence[str]) -> str:

@@ -165,7 +165,10 @@ def _classify(path: str, out: Files, explicit: bool = False) -> None:
     elif is_launch(path):
         out.launches.append(path)
     elif is_xml_launch_candidate(path):
-        (out.launches if _looks_like_launch(path) else out.skipped_xml).append(path)
+        # named explicitly, an XML / rostest file is checked as the launch file it is said to be
+        # (roslaunch rejects one whose root is not <launch>: so does the check); found by walking
+        # a folder, only one with a <launch> root is
+        (out.launches if explicit or _looks_like_launch(path) else out.skipped_xml).append(path)
     elif is_yaml(path):
         out.yamls.append(path)
     elif base == "package.xml":
@@ -180,15 +183,15 @@ def explicit_skip_reason(path: str) -> Optional[str]:
     why = unreadable_reason(path)
     if why is not None:
         return f"cannot be read: {why}"
-    if is_model(path) or is_launch(path) or _looks_like_launch(path) or path.endswith(".cnf"):
-        return None  # (a .cnf named on the command line is read as a DIMACS model)
-    accepted = ("--check reads only models (.tvl, .uvl, .dimacs), launch files (.launch, .launch.xml, or .xml/.test "
-                "with a <launch> root) and HAROS project files (YAML with a top-level `configurations:`)")
+    if is_model(path) or is_launch(path) or is_xml_launch_candidate(path) or path.endswith(".cnf"):
+        return None  # (a .cnf named on the command line is read as a DIMACS model; an .xml/.test file as
+        # a launch file: one whose root is not <launch> gets roslaunch's own error)
+    accepted = ("--check reads only models (.tvl, .uvl, .dimacs), launch files (.launch, .launch.xml, .launch.yaml, "
+                ".launch.py, or .xml/.test with a <launch> root) and HAROS project files (YAML with a top-level "
+                "`configurations:`)")
     head = read_head(path, 4096)
     if head is None:
         return "cannot be read"
-    if path.endswith(".launch.py"):
-        return "taken to be a ROS 2 Python launch file, which --check does not read (it would have to run it)"
     if path.endswith((".launch.yaml", ".launch.yml")):
         return "taken to be a ROS 2 YAML launch file, which --check does not read yet"
     if is_yaml(path):
@@ -605,6 +608,8 @@ class Workspace:
         for pf in self.projects:
             if pf.path in files and pf.hints:
                 out = out.merge(pf.hints)
+        if naming:  # the project files that name it, with hints or not (the graph checks run for it)
+            out.sources = list(dict.fromkeys(out.sources + files))
         return out, configs
 
     def included_launch_names(self) -> set[str]:

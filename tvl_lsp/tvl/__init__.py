@@ -24,16 +24,16 @@ from .codes import C_REF_REJECTS
 __all__ = ["parse_model", "TvlResult", "Model", "model", "MAX_FILE_SIZE", "MAX_TOKENS"]
 
 E, W = Severity.ERROR, Severity.WARNING
-C_SYNTAX = register("syntax-error", E, "the text does not follow the TVL grammar", "tvl")
-C_ILLEGAL = register("illegal-character", E, "a character that cannot appear in TVL", "tvl")
-C_UNTERM_COMMENT = register("unterminated-comment", E, "a /* comment is never closed", "tvl")
-C_UNTERM_STRING = register("unterminated-string", E, "a string is never closed", "tvl")
-C_INFIX = register("infix-and-or", E, "'and' / 'or' used as infix operators (TVL writes && and ||)", "tvl")
-C_CONSTANT_KW = register("constant-keyword", E, "'constant' used for a constant declaration (TVL's keyword is 'const')", "tvl")
-C_INC_MISSING = register("include-missing", E, "an included file cannot be read", "tvl")
-C_INC_CYCLE = register("include-cycle", E, "files include each other in a cycle", "tvl")
-C_TOO_DEEP = register("nesting-too-deep", E, "nesting deeper than the checker analyses", "tvl")
-C_TOO_LARGE = register("file-too-large", E, "a file too large to analyse", "tvl")
+C_SYNTAX = register("syntax-error", E, "The text does not follow the grammar of the model's language.", "tvl")
+C_ILLEGAL = register("illegal-character", E, "A character that cannot appear in TVL.", "tvl")
+C_UNTERM_COMMENT = register("unterminated-comment", E, "A /* comment is never closed.", "tvl")
+C_UNTERM_STRING = register("unterminated-string", E, "A string is never closed.", "tvl")
+C_INFIX = register("infix-and-or", E, "The words 'and' / 'or' used as infix operators (TVL writes && and ||).", "tvl")
+C_CONSTANT_KW = register("constant-keyword", E, "The keyword 'constant' for a constant declaration (TVL's keyword is 'const').", "tvl")
+C_INC_MISSING = register("include-missing", E, "An included file cannot be read.", "tvl")
+C_INC_CYCLE = register("include-cycle", E, "Files include each other in a cycle.", "tvl")
+C_TOO_DEEP = register("nesting-too-deep", E, "Nesting deeper than the checker analyses.", "tvl")
+C_TOO_LARGE = register("file-too-large", E, "A file too large to analyse.", "tvl")
 
 MAX_FILE_SIZE = 5 * 1024 * 1024  # ~400,000 lines of a typical model; parsing it takes seconds
 MAX_TOKENS = 1_000_000  # ~400,000 lines of a typical model; more would take too long

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Optional
 
 from lark import Lark, Transformer
@@ -38,15 +37,8 @@ MAX_DEPTH = 200  # expression / feature nesting handled (deeper input is reporte
 
 
 def _grammar_text() -> str:
-    here = Path(__file__).resolve().parent
-    for cand in (here.parent / "grammars" / "tvl.lark", here.parents[1] / "grammars" / "tvl.lark"):
-        if cand.is_file():
-            return cand.read_text(encoding="utf-8")
-    try:  # installed wheel without the symlink materialised
-        from importlib import resources
-        return (resources.files("tvl_lsp") / "grammars" / "tvl.lark").read_text(encoding="utf-8")
-    except Exception as exc:  # pragma: no cover
-        raise RuntimeError("grammars/tvl.lark not found") from exc
+    from ..base.files import package_text
+    return package_text("grammars", "tvl.lark")
 
 
 # ---------------------------------------------------------------- lark plumbing

@@ -15,6 +15,9 @@ import signal
 import sys
 
 
+COUNT_BUDGET = 120.0  # seconds: models d4 compiles at all take a few seconds (bench/README.md)
+
+
 class _Stop(Exception):
     pass
 
@@ -32,6 +35,9 @@ def main(argv: list[str]) -> int:
                     help="a YAML file with the graph's node hints (HAROS `nodes:`; repeatable; default: the "
                          "workspace's HAROS project files)")
     ap.add_argument("--limit", type=int, default=100, help="at most this many files per Generate (default 100)")
+    ap.add_argument("--count-budget", type=float, default=COUNT_BUDGET, metavar="SECONDS",
+                    help=f"how long d4 may compile a model for the counts (default {COUNT_BUDGET:g} s); past it the "
+                         "configurator works on without counts")
     ap.add_argument("--verbose", "-v", action="store_true", help="log every request on stderr")
     try:
         args = ap.parse_args(argv)
@@ -45,7 +51,7 @@ def main(argv: list[str]) -> int:
     from .server import make_server
     try:
         httpd, url = make_server(args.path, args.port, args.folder, verbose=args.verbose, limit=max(1, args.limit),
-                                 project_files=args.project)
+                                 project_files=args.project, compile_budget=max(0.01, args.count_budget))
     except SessionError as ex:
         print(f"tvl-lsp ui: {ex}", file=sys.stderr)
         return 2
@@ -97,6 +103,11 @@ def _close_within(httpd, seconds: float) -> None:
         try:
             from multiprocessing import util as mp_util
             mp_util._run_finalizers(0)
+        except Exception:
+            pass
+        try:  # the semaphore tracker: stopped and reaped, not left behind (a zombie where no init reaps)
+            from multiprocessing import resource_tracker
+            resource_tracker._resource_tracker._stop()
         except Exception:
             pass
     t = threading.Thread(target=close, name="tvl-lsp-ui-close", daemon=True)

@@ -11,6 +11,15 @@ Security model (a local server that can write files must not be drivable by othe
 - generated files are written inside the workspace only (:func:`tvl_lsp.configurator.api.write_files`);
 - file excerpts are served only for the session's own files inside the workspace.
 
+Limits (a local page, but any local process can connect): a listen backlog of
+``BACKLOG``; at most ``MAX_CONNECTIONS`` connections served at once (more are answered 503 at
+once, without a thread); each request must arrive within ``REQUEST_SECONDS`` (request line,
+headers and body: a slow sender is cut off, not waited for) and every socket operation within
+``SOCKET_SECONDS``; a body nested deeper than ``MAX_DEPTH`` is answered 400; a request with two
+``Host`` (or ``Content-Length``, ``Origin``, token...) headers, or with ``Transfer-Encoding``, is
+answered 400.  Every error is a JSON ``{"error": ...}`` (or one line of text before the API
+route is known), never a dropped connection or a traceback.
+
 Standard library only (``http.server.ThreadingHTTPServer``): the API is a handful of JSON
 routes on loopback, nothing a framework would add to.
 """
@@ -18,19 +27,24 @@ routes on loopback, nothing a framework would add to.
 from __future__ import annotations
 
 import hmac
+import io
 import json
 import mimetypes
 import os
 import secrets
 import sys
 import threading
+import time
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Optional
 from urllib.parse import parse_qs, urlsplit
 
+from ..base.files import read_bytes, read_text
 from ..base.pools import kill_pool
+from .httplimits import (REQUEST_SECONDS, SINGLE_HEADERS, SOCKET_SECONDS, BoundedServer, DeadlineRaw,
+                         os_message, os_status, parse_body)
 from ..configurator import Session, SessionError, configurable_models
 from ..configurator import api
 from ..project.workspace import find_workspace_root, is_launch, is_model, norm
@@ -46,7 +60,7 @@ class App:
     """The state behind the server: one :class:`Session` per model, the decisions per model."""
 
     def __init__(self, path: str, folder: Optional[str] = None, limit: int = 100,
-                 project_files: Optional[list[str]] = None):
+                 project_files: Optional[list[str]] = None, compile_budget: Optional[float] = None):
         path = norm(path)
         if not os.path.exists(path):
             raise SessionError(f"{path} does not exist")
@@ -58,17 +72,22 @@ class App:
         self.sessions: dict[str, Session] = {}
         self.decisions: dict[str, dict[str, bool]] = {}
         self.versions: dict[str, int] = {}
+        self.pairings: dict[str, str] = {}  # model -> the launch file chosen on the page
+        self.compile_budget = compile_budget
         self.initial: Optional[str] = None
         if is_model(path):
             self.initial = path
         elif is_launch(path):
             s = Session.open(path, self.roots, project_files=project_files)
+            if compile_budget is not None:
+                s.compile_budget = compile_budget
             self.sessions[s.model_path] = s
             self.initial = s.model_path
         self._targets: Optional[list[dict]] = None
         self.pool = None
         self.pool_lock = threading.Lock()  # not self.lock: that one is held while a session opens
         self.closed = False
+        self.active = 0  # requests being answered
         self.checks: dict = {}
 
     def targets(self) -> dict:
@@ -103,17 +122,27 @@ class App:
             fut = self.checks.get(s.model_path)
             if fut is None:
                 if self.pool is None:
-                    self.pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"))
+                    from ..base.children import watch_parent  # (dies with this server)
+                    self.pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
+                                                    initializer=watch_parent)
                 fut = self.pool.submit(check_files, [s.model_path] + s.launches, s.roots)
                 self.checks[s.model_path] = fut
         return fut
 
     def close(self) -> None:
         from ..analysis.counting.service import cancel_all
-        cancel_all()  # kills the d4 processes of background compilations
         with self.pool_lock:
             self.closed = True
             pool, self.pool = self.pool, None
+        # requests in flight see the stop as a cancellation (a count in a pyganak process ends
+        # it); background compilations kill their d4 processes; both are waited for, briefly,
+        # so that no child outlives the server
+        cancel_all(wait=3.0)
+        deadline = time.monotonic() + 3.0
+        while self.active and time.monotonic() < deadline:
+            time.sleep(0.02)
+        from ..base.children import kill_all
+        kill_all()  # whatever counting process is still running (d4, pyganak): now, with its group
         kill_pool(pool)
 
     def session(self, model: Optional[str]) -> Session:
@@ -128,13 +157,45 @@ class App:
         with self.lock:
             s = self.sessions.get(model)
             if s is None:
-                s = self.sessions[model] = Session(model, self.roots, project_files=self.project_files)
+                launch = self.pairings.get(model)
+                s = self.sessions[model] = Session(model, self.roots, project_files=self.project_files,
+                                                   launches=[launch] if launch else None)
+                if self.compile_budget is not None:
+                    s.compile_budget = self.compile_budget
                 self.decisions.setdefault(model, {})
             return s
+
+    def pair(self, model: Optional[str], launch: object) -> dict:
+        """Configure ``launch`` (a launch file of the workspace) with the model from now on: a
+        new session, the decisions kept where the model still accepts them."""
+        from ..project.generate import inside
+        from ..project.workspace import is_launch as _is_launch
+        s = self.session(model)
+        if not isinstance(launch, str) or not launch:
+            raise SessionError("pair needs the launch file to configure")
+        launch = norm(launch)
+        if not inside(launch, self.roots) or not _is_launch(launch) or not os.path.isfile(launch):
+            raise SessionError(f"{launch} is not a launch file of this workspace")
+        with self.lock:
+            self.pairings[s.model_path] = launch
+            for t in self._targets or []:
+                if t["model"] == s.model_path:
+                    t["launches"] = [launch]
+            self.sessions.pop(s.model_path, None)
+            self.checks.pop(s.model_path, None)
+            self.versions[s.model_path] = self.versions.get(s.model_path, 0) + 1
+        s2 = self.session(s.model_path)
+        try:
+            self.check_in_background(s2)
+        except RuntimeError:
+            pass
+        return {"model": s2.model_path, "launch": s2.launch}
 
     def request(self, op: str, body: dict) -> dict:
         if op == "targets":
             return self.targets()
+        if op == "pair":
+            return self.pair(body.get("model"), body.get("launch"))
         s = self.session(body.get("model"))
         key = s.model_path
         with self.lock:
@@ -142,7 +203,7 @@ class App:
             version = self.versions.get(key, 0)
 
         def cancelled() -> bool:
-            return self.versions.get(key, 0) != version
+            return self.closed or self.versions.get(key, 0) != version
 
         if op == "problems" and s._problems is None:
             try:
@@ -150,14 +211,22 @@ class App:
             except Exception:
                 pass  # checked in this process instead
 
-        out, new = api.handle(s, op, body, decisions, cancel=cancelled, generate_folder=self.folder,
-                              generate_limit=self.limit)
+        with self.pool_lock:
+            self.active += 1
+        try:
+            out, new = api.handle(s, op, body, decisions, cancel=cancelled, generate_folder=self.folder,
+                                  generate_limit=self.limit)
+        finally:
+            with self.pool_lock:
+                self.active -= 1
         if new != decisions:
             with self.lock:
                 self.decisions[key] = new
                 self.versions[key] = version + 1
         if op == "generate" and body.get("write", True):
             out["written"] = api.write_files(s, out["files"])
+        if op == "save" and body.get("write", True):
+            out["written"] = api.write_files(s, [{"path": out["path"], "text": out["text"]}])
         out["model"] = out.get("model", key) if op == "model" else key
         return out
 
@@ -173,9 +242,33 @@ class Handler(BaseHTTPRequestHandler):
     port: int
     verbose: bool = False
 
+    timeout = SOCKET_SECONDS  # each socket operation (StreamRequestHandler.setup applies it)
+
     def log_message(self, fmt, *args):  # quiet unless asked
         if self.verbose:
             sys.stderr.write("tvl-lsp ui: " + (fmt % args) + "\n")
+
+    def setup(self) -> None:
+        super().setup()
+        self._raw = DeadlineRaw(self.connection)
+        self.rfile = io.BufferedReader(self._raw, 64 * 1024)
+
+    def handle_one_request(self) -> None:
+        # the whole request (line, headers, body) must arrive within REQUEST_SECONDS of its
+        # first byte being waited for: a sender that trickles bytes is cut off (slowloris)
+        self._raw.deadline = time.monotonic() + REQUEST_SECONDS
+        try:
+            super().handle_one_request()
+        except TimeoutError:
+            self.close_connection = True
+        except (ConnectionError, OSError):
+            self.close_connection = True
+
+    def _duplicate_header(self) -> Optional[str]:
+        for name in SINGLE_HEADERS:
+            if len(self.headers.get_all(name) or []) > 1:
+                return name
+        return None
 
     # ------------------------------------------------------------------ checks
     def _allowed_hosts(self) -> set[str]:
@@ -195,6 +288,10 @@ class Handler(BaseHTTPRequestHandler):
         return bool(given) and hmac.compare_digest(given.encode(), self.token.encode())
 
     def _send(self, status: int, body: bytes, ctype: str, extra: Optional[dict] = None) -> None:
+        try:
+            self.connection.settimeout(SOCKET_SECONDS)  # (reading may have left it shorter)
+        except OSError:
+            pass
         self.send_response(status)
         self.send_header("Content-Type", ctype)
         self.send_header("Content-Length", str(len(body)))
@@ -217,6 +314,15 @@ class Handler(BaseHTTPRequestHandler):
 
     def _gate(self) -> Optional[dict]:
         """The query, or None after refusing the request."""
+        dup = self._duplicate_header()
+        if dup is not None:
+            self.close_connection = True
+            self._refuse(HTTPStatus.BAD_REQUEST, f"bad request: more than one {dup} header")
+            return None
+        if self.headers.get("Transfer-Encoding") is not None:
+            self.close_connection = True
+            self._refuse(HTTPStatus.NOT_IMPLEMENTED, "Transfer-Encoding is not supported: send a Content-Length")
+            return None
         if not self._host_ok():
             self._refuse(HTTPStatus.FORBIDDEN, "forbidden: unexpected Host header")
             return None
@@ -232,7 +338,7 @@ class Handler(BaseHTTPRequestHandler):
             return
         route = urlsplit(self.path).path
         if route in ("/", "/index.html"):
-            html = (STATIC / "index.html").read_text(encoding="utf-8").replace(TOKEN_PLACEHOLDER, self.token)
+            html = read_text(str(STATIC / "index.html")).replace(TOKEN_PLACEHOLDER, self.token)
             self._send(HTTPStatus.OK, html.encode(), "text/html; charset=utf-8")
             return
         if route.startswith("/static/"):
@@ -244,7 +350,7 @@ class Handler(BaseHTTPRequestHandler):
             ctype = mimetypes.guess_type(name)[0] or "application/octet-stream"
             if ctype.startswith("text/") or ctype.endswith("javascript"):
                 ctype += "; charset=utf-8"
-            self._send(HTTPStatus.OK, f.read_bytes(), ctype)
+            self._send(HTTPStatus.OK, read_bytes(str(f)), ctype)
             return
         self._refuse(HTTPStatus.NOT_FOUND, "not found")
 
@@ -265,27 +371,43 @@ class Handler(BaseHTTPRequestHandler):
         if ctype != "application/json":
             self._refuse(HTTPStatus.UNSUPPORTED_MEDIA_TYPE, "the API takes application/json")
             return
-        try:
-            n = int(self.headers.get("Content-Length") or 0)
-        except ValueError:
-            n = -1
-        if n < 0 or n > MAX_BODY:
-            self._refuse(HTTPStatus.REQUEST_ENTITY_TOO_LARGE, "request too large")
+        length = (self.headers.get("Content-Length") or "0").strip()
+        n = int(length) if length.isdigit() and len(length) <= 12 else -1
+        if n < 0:
+            self.close_connection = True
+            self._json(HTTPStatus.BAD_REQUEST, {"error": "a request needs a valid Content-Length"})
+            return
+        if n > MAX_BODY:
+            self.close_connection = True  # (the body is not read)
+            self._json(HTTPStatus.REQUEST_ENTITY_TOO_LARGE, {"error": f"the request body is larger than {MAX_BODY} bytes"})
             return
         try:
-            body = json.loads(self.rfile.read(n) or b"{}")
-            if not isinstance(body, dict):
-                raise ValueError("not an object")
-        except ValueError:
-            self._json(HTTPStatus.BAD_REQUEST, {"error": "the request body must be a JSON object"})
+            data = self.rfile.read(n)
+        except OSError:
+            self.close_connection = True
             return
-        if op not in api.OPS and op != "targets":
+        if len(data) < n:
+            self.close_connection = True
+            self._json(HTTPStatus.BAD_REQUEST, {"error": "the request body is shorter than its Content-Length"})
+            return
+        try:
+            body = parse_body(data)
+        except ValueError as e:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": str(e)})
+            return
+        if op not in api.OPS and op not in ("targets", "pair"):
             self._json(HTTPStatus.NOT_FOUND, {"error": f"unknown request {op!r}"})
             return
         try:
             out = self.app.request(op, body)
         except SessionError as e:
             self._json(HTTPStatus.UNPROCESSABLE_ENTITY, {"error": str(e)})
+            return
+        except OSError as e:  # a file that cannot be written (a link, a full disk): one line
+            self._json(os_status(e), {"error": os_message(e)})
+            return
+        except RecursionError:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": "the request is nested too deeply"})
             return
         except Exception as e:  # a bug: say so, keep serving
             self._json(HTTPStatus.INTERNAL_SERVER_ERROR, {"error": f"internal error: {type(e).__name__}: {e}"})
@@ -300,10 +422,9 @@ class Handler(BaseHTTPRequestHandler):
     do_DELETE = do_PATCH = do_OPTIONS = do_PUT
 
 
-class UiServer(ThreadingHTTPServer):
+class UiServer(BoundedServer, ThreadingHTTPServer):
     daemon_threads = True
     allow_reuse_address = True
-
     def server_close(self) -> None:
         super().server_close()
         app = getattr(self.RequestHandlerClass, "app", None)
@@ -313,11 +434,12 @@ class UiServer(ThreadingHTTPServer):
 
 def make_server(path: str, port: int = 0, folder: Optional[str] = None, token: Optional[str] = None,
                 verbose: bool = False, limit: int = 100,
-                project_files: Optional[list[str]] = None) -> tuple[UiServer, str]:
+                project_files: Optional[list[str]] = None,
+                compile_budget: Optional[float] = None) -> tuple[UiServer, str]:
     """The server (not yet serving) and its URL (with the token)."""
     from ..configurator.preload import import_core
     import_core()  # before the warm-up and request threads: concurrent first imports are not safe
-    app = App(path, folder, limit, project_files)
+    app = App(path, folder, limit, project_files, compile_budget)
     token = token or secrets.token_urlsafe(24)
     handler = type("BoundHandler", (Handler,), {"app": app, "token": token, "verbose": verbose})
     httpd = UiServer(("127.0.0.1", port), handler)

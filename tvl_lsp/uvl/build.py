@@ -40,25 +40,24 @@ from .parser import RawFeature, RawFile, RawImport, RawValue, StrLit, parse_line
 
 E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFORMATION
 
-# codes shared with the TVL front end (same meaning; docs/diagnostics.md says so)
-C_SYNTAX = register("syntax-error", E, "the text does not follow the TVL grammar", "tvl")
-C_ILLEGAL = register("illegal-character", E, "a character that cannot appear in TVL", "tvl")
-C_UNTERM_COMMENT = register("unterminated-comment", E, "a /* comment is never closed", "tvl")
-C_UNTERM_STRING = register("unterminated-string", E, "a string is never closed", "tvl")
-C_TOO_LARGE = register("file-too-large", E, "a file too large to analyse", "tvl")
-C_UNKNOWN = register("unknown-name", E, "a name designates no feature, attribute, constant or type", "tvl")
-C_TYPE = register("type-error", E, "an expression has the wrong type", "tvl")
-C_CARD_BOUNDS = register("cardinality-bounds", E, "invalid group cardinality bounds", "tvl")
+# codes shared with the TVL front end (same meaning; tvl_lsp/data/diagnostics.md says so)
+C_SYNTAX = register("syntax-error", E, "The text does not follow the grammar of the model's language.", "tvl")
+C_ILLEGAL = register("illegal-character", E, "A character that cannot appear in TVL.", "tvl")
+C_UNTERM_COMMENT = register("unterminated-comment", E, "A /* comment is never closed.", "tvl")
+C_UNTERM_STRING = register("unterminated-string", E, "A string is never closed.", "tvl")
+C_TOO_LARGE = register("file-too-large", E, "A file too large to analyse.", "tvl")
+C_UNKNOWN = register("unknown-name", E, "A name designates no feature, attribute, constant or type.", "tvl")
+C_TYPE = register("type-error", E, "An expression has the wrong type.", "tvl")
+C_CARD_BOUNDS = register("cardinality-bounds", E, "Invalid group cardinality bounds.", "tvl")
 # UVL's own
 C_NOT_ANALYSED = register(
     "not-analysed", I,
-    "a UVL attribute, arithmetic or string constraint, feature type or feature cardinality is read "
-    "but left out of the analyses", "uvl")
-C_DUP_NAME = register("duplicate-feature-name", E, "two features of a UVL model have the same name", "uvl")
-C_IMPORT_MISSING = register("import-not-found", E, "a UVL import names a file that cannot be read", "uvl")
-C_IMPORT_CYCLE = register("import-cycle", E, "UVL models import each other in a cycle", "uvl")
-C_ROOTS = register("multiple-roots", E, "a UVL model declares more than one root feature", "uvl")
-C_IMPORT_UNUSED = register("import-unused", W, "an imported UVL model is never placed in the feature tree", "uvl")
+    "A UVL attribute, arithmetic or string constraint, feature type or feature cardinality is read but left out of the analyses.", "uvl")
+C_DUP_NAME = register("duplicate-feature-name", E, "Two features of a UVL model have the same name.", "uvl")
+C_IMPORT_MISSING = register("import-not-found", E, "A UVL import names a file that cannot be read.", "uvl")
+C_IMPORT_CYCLE = register("import-cycle", E, "UVL models import each other in a cycle.", "uvl")
+C_ROOTS = register("multiple-roots", E, "A UVL model declares more than one root feature.", "uvl")
+C_IMPORT_UNUSED = register("import-unused", W, "An imported UVL model is never placed in the feature tree.", "uvl")
 
 MAX_FILE_SIZE = 8 * 1024 * 1024
 MAX_TOKENS = 2_000_000

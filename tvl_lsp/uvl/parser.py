@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Optional
 
 from lark import Lark, Transformer
@@ -33,12 +32,8 @@ MAX_DEPTH = 200  # expression nesting analysed
 
 
 def _grammar_text() -> str:
-    here = Path(__file__).resolve().parent
-    for cand in (here.parent / "grammars" / "uvl.lark", here.parents[1] / "grammars" / "uvl.lark"):
-        if cand.is_file():
-            return cand.read_text(encoding="utf-8")
-    from importlib import resources
-    return (resources.files("tvl_lsp") / "grammars" / "uvl.lark").read_text(encoding="utf-8")
+    from ..base.files import package_text
+    return package_text("grammars", "uvl.lark")
 
 
 # ---------------------------------------------------------------- raw declarations

@@ -1,26 +1,39 @@
 // The feature diagram, drawn as the thesis drew it (Figures 17 and 19): a top-down tree of
 // rectangles with the group kind or cardinality, a filled (mandatory) or empty (optional)
-// circle on top, + and − to include and exclude, and collapsible subtrees (three dots under a
-// collapsed feature). Decisions change colours and counts, never the layout; only expanding or
-// collapsing lays the tree out again, keeping the clicked feature where it was on screen.
+// circle on top, FODA's arcs under oneOf (hollow) and someOf (filled) groups, + and − to include
+// and exclude, and collapsible subtrees (three dots under a collapsed feature). Decisions change
+// colours and counts, never the layout; only expanding or collapsing lays the tree out again,
+// keeping the clicked feature where it was on screen. It fits its panel on load and on resize
+// (until you zoom or pan), and has fit / zoom buttons and keys (f, +, -).
 import { hierarchy, tree as d3tree, HierarchyPointNode } from 'd3-hierarchy';
 import { select, Selection } from 'd3-selection';
 import 'd3-transition';
 import { zoom as d3zoom, zoomIdentity, ZoomBehavior, ZoomTransform } from 'd3-zoom';
-import { formatCount, percent } from './format';
+import { el, endEllipsis, formatCount, middleEllipsis, percent, textWidth } from './format';
+import { FeatureIndex, FeatureStatus, FeatureView, FeatureViewHandlers, nextValue, STATUS_WORDS, statusOf } from './model';
 import type { Counts, FeatureNode, State } from './types';
 
-const W = 164;
-const H = 60;
-const GAP_X = 22;
-const GAP_Y = 64;
+/** the box width: wider for a model whose names are long (automotive01: N_100300__F_100301) */
+let W = 150;
+const H = 56;
+const GAP_X = 18;
+const GAP_Y = 62;
+const NAME_FONT = '600 13px system-ui, sans-serif';
+const GROUP_FONT = 'italic 11px system-ui, sans-serif';
+const COUNT_FONT = '11px system-ui, sans-serif';
+/** features drawn on load beyond the first level (whole levels are added while they fit) */
+const INITIAL_NODES = 40;
+/** the smallest scale the first view is drawn at when more than the first level is expanded */
+const READABLE = 0.62;
+/** the smallest scale of the automatic fit: names about 6 px high (the fit button shows it all) */
+const MIN_AUTO_SCALE = 0.45;
 const SVGNS = 'http://www.w3.org/2000/svg';
 // children drawn under an expanded feature before "••• N more" (a flat model of 2,500 features
 // under its root stays fast to draw and to click); each click on it draws MORE_KIDS more
 const MAX_KIDS = 40;
-/** The smallest scale the diagram is fitted at: feature names stay about 8 px high or more. */
-const MIN_FIT_SCALE = 0.65;
 const MORE_KIDS = 100;
+const ARC_R = 13;
+const CONTROLS_W = 40;
 
 interface ViewNode {
   key: string;
@@ -30,14 +43,15 @@ interface ViewNode {
   hidden: number; // children not shown (collapsed)
 }
 
-export interface DiagramHandlers {
-  decide(feature: string, value: boolean | null): void;
-  select(feature: FeatureNode): void;
+/** How small the diagram must be drawn for its first level to fit a panel of this width (the
+ * page shows the tree instead when that is too small to read). */
+export function firstLevelScale(index: FeatureIndex, width: number): number {
+  const n = Math.min(index.root.children.length, MAX_KIDS);
+  return width / Math.max(1, n * (boxWidth(index) + GAP_X) + 20);
 }
 
-export type FeatureStatus = 'user-in' | 'user-out' | 'implied-in' | 'implied-out' | 'open';
-
-export class Diagram {
+export class Diagram implements FeatureView {
+  readonly kind = 'diagram' as const;
   private svg: Selection<SVGSVGElement, unknown, null, undefined>;
   private layer: Selection<SVGGElement, unknown, null, undefined>;
   private linkLayer: Selection<SVGGElement, unknown, null, undefined>;
@@ -45,61 +59,93 @@ export class Diagram {
   private nodeLayer: Selection<SVGGElement, unknown, null, undefined>;
   private zoom: ZoomBehavior<SVGSVGElement, unknown>;
   private expanded = new Set<string>();
-  private byId = new Map<string, FeatureNode>();
-  private parentOf = new Map<string, string>();
+  private byId: Map<string, FeatureNode>;
+  private parentOf: Map<string, string>;
+  private root: FeatureNode;
   private state: State | null = null;
   private counts: Counts | null = null;
   private positions = new Map<string, { x: number; y: number }>();
   private highlighted: string | null = null;
-  private fitted = false;
+  private linked = new Set<string>();
+  /** fit the panel on resize, until the user zooms or pans */
+  private autoFit = true;
+  private fitting = false;
   private kidLimit = new Map<string, number>(); // feature -> children drawn (default MAX_KIDS)
   private pinned = new Set<string>(); // features drawn whatever their parent's limit (found ones)
+  private resize: ResizeObserver;
+  private lastSize = '';
+  private controls: HTMLElement;
 
-  constructor(private host: HTMLElement, private root: FeatureNode, private handlers: DiagramHandlers) {
-    const index = (n: FeatureNode, parent?: FeatureNode) => {
-      if (!n.ref) {
-        this.byId.set(n.id, n);
-        if (parent) {
-          this.parentOf.set(n.id, parent.id);
-        }
-        n.children.forEach((c) => index(c, n));
-      }
-    };
-    index(root);
+  constructor(private host: HTMLElement, private index: FeatureIndex, private handlers: FeatureViewHandlers) {
+    W = boxWidth(index);
+    this.root = index.root;
+    this.byId = index.byId;
+    this.parentOf = index.parentOf;
     this.initialExpansion();
-    this.svg = select(host).append('svg').attr('class', 'diagram').attr('role', 'tree')
-      .attr('aria-label', 'feature diagram') as unknown as Selection<SVGSVGElement, unknown, null, undefined>;
+    this.svg = select(host).append('svg').attr('class', 'diagram').attr('role', 'tree').attr('tabindex', '0')
+      .attr('aria-label', 'feature diagram (f: fit, +/-: zoom)') as unknown as Selection<SVGSVGElement, unknown, null, undefined>;
     this.layer = this.svg.append('g').attr('class', 'layer');
     this.linkLayer = this.layer.append('g').attr('class', 'links');
     this.arcLayer = this.layer.append('g').attr('class', 'arcs');
     this.nodeLayer = this.layer.append('g').attr('class', 'nodes');
     this.zoom = d3zoom<SVGSVGElement, unknown>()
-      .scaleExtent([0.1, 2.5])
-      .filter((ev: Event) => !(ev.target as Element).closest?.('.btn'))
-      .on('zoom', (ev: { transform: ZoomTransform }) => this.layer.attr('transform', ev.transform.toString()));
+      .scaleExtent([0.05, 3])
+      .filter((ev: Event) => !(ev.target as Element).closest?.('.btn') && (ev.type !== 'mousedown' || !(ev as MouseEvent).button))
+      .on('zoom', (ev: { transform: ZoomTransform; sourceEvent: Event | null }) => {
+        this.layer.attr('transform', ev.transform.toString());
+        if (ev.sourceEvent && !this.fitting) {
+          this.autoFit = false; // the user zoomed or panned: keep their view on resize
+        }
+      });
     this.svg.call(this.zoom).on('dblclick.zoom', null);
+    this.controls = zoomControls(host, () => this.fit(), (k) => this.zoomBy(k));
+    this.svg.on('keydown', (ev: KeyboardEvent) => zoomKeys(ev, () => this.fit(), (k) => this.zoomBy(k)));
     this.render(null);
+    this.resize = new ResizeObserver(() => {
+      const b = this.host.getBoundingClientRect();
+      const size = `${Math.round(b.width)}x${Math.round(b.height)}`;
+      if (size !== this.lastSize && b.width && b.height) {
+        this.lastSize = size;
+        if (this.autoFit) {
+          this.fit(false, true);
+        }
+      }
+    });
+    this.resize.observe(host);
   }
 
-  /** Expand breadth-first until about 40 features show (a 2,000-feature model stays usable). */
+  /** The root and its first level, then whole levels while the diagram, fitted to the panel, stays
+   * readable (drawn at READABLE or larger) and small. */
   private initialExpansion(): void {
-    let shown = 1;
-    let frontier = [this.root];
+    this.expanded.add(this.root.id);
+    const box = this.host.getBoundingClientRect();
+    const bw = box.width || 600;
+    const bh = box.height || 400;
+    let shown = 1 + Math.min(this.root.children.length, MAX_KIDS);
+    let frontier = this.root.children.slice(0, MAX_KIDS).filter((c) => !c.ref && c.children.length);
     while (frontier.length) {
-      const next: FeatureNode[] = [];
-      for (const n of frontier) {
-        if (!n.children.length || n.ref) {
-          continue;
-        }
-        if (shown + n.children.length > 40 && shown > 1) {
-          return;
-        }
-        this.expanded.add(n.id);
-        shown += Math.min(n.children.length, MAX_KIDS);
-        next.push(...n.children.slice(0, MAX_KIDS));
+      const more = frontier.reduce((n, c) => n + Math.min(c.children.length, MAX_KIDS), 0);
+      if (shown + more > INITIAL_NODES) {
+        return;
       }
-      frontier = next;
+      frontier.forEach((c) => this.expanded.add(c.id));
+      const e = this.extent();
+      if (Math.min((bw - CONTROLS_W) / e.w, bh / e.h) < READABLE) {
+        frontier.forEach((c) => this.expanded.delete(c.id));
+        return;
+      }
+      shown += more;
+      frontier = frontier.flatMap((c) => c.children.slice(0, MAX_KIDS).filter((k) => !k.ref && k.children.length));
     }
+  }
+
+  /** The size of the diagram as it would be drawn now (layout units). */
+  private extent(): { w: number; h: number } {
+    const laid = d3tree<ViewNode>().nodeSize([W + GAP_X, H + GAP_Y])(hierarchy<ViewNode>(this.view(), (d) => d.kids));
+    const ns = laid.descendants();
+    const xs = ns.map((n) => n.x);
+    const ys = ns.map((n) => n.y);
+    return { w: Math.max(...xs) - Math.min(...xs) + W + 24, h: Math.max(...ys) - Math.min(...ys) + H + 46 };
   }
 
   private view(): ViewNode {
@@ -126,17 +172,7 @@ export class Diagram {
   }
 
   status(id: string): FeatureStatus {
-    const s = this.state;
-    if (!s) {
-      return 'open';
-    }
-    if (id in s.decisions) {
-      return s.decisions[id] ? 'user-in' : 'user-out';
-    }
-    if (id in s.implied) {
-      return s.implied[id] ? 'implied-in' : 'implied-out';
-    }
-    return 'open';
+    return statusOf(this.state, id);
   }
 
   /** Lay out and draw; `anchor`: a feature to keep at the same place on screen. */
@@ -164,9 +200,10 @@ export class Diagram {
         return `M${p.x},${y1} L${d.x},${y2}`; // straight, as FODA draws them (the group arcs sit on them)
       });
 
-    // FODA's group arcs under a parent: hollow for oneOf (alternative), filled for someOf (or)
+    // FODA's group arcs under a parent, across the lines to its children: hollow for oneOf
+    // (alternative) and cardinality groups, filled between the outermost lines for someOf (or)
     const grouped = nodes.filter((n) => (n.children?.length ?? 0) >= 2 &&
-      (n.data.data.group?.kind === 'oneOf' || n.data.data.group?.kind === 'someOf'));
+      ['oneOf', 'someOf', 'card'].includes(n.data.data.group?.kind ?? ''));
     const arcs = this.arcLayer.selectAll<SVGPathElement, HierarchyPointNode<ViewNode>>('path.arc')
       .data(grouped, (d) => d.data.key);
     arcs.exit().remove();
@@ -178,12 +215,11 @@ export class Diagram {
         const angles = (d.children ?? []).map((c) => Math.atan2(c.y - H / 2 - 6 - py, c.x - px));
         const a0 = Math.min(...angles);
         const a1 = Math.max(...angles);
-        const r = 22;
-        const p0 = `${px + r * Math.cos(a0)},${py + r * Math.sin(a0)}`;
-        const p1 = `${px + r * Math.cos(a1)},${py + r * Math.sin(a1)}`;
+        const p0 = `${(px + ARC_R * Math.cos(a0)).toFixed(1)},${(py + ARC_R * Math.sin(a0)).toFixed(1)}`;
+        const p1 = `${(px + ARC_R * Math.cos(a1)).toFixed(1)},${(py + ARC_R * Math.sin(a1)).toFixed(1)}`;
         return d.data.data.group?.kind === 'someOf'
-          ? `M${px},${py} L${p0} A${r},${r} 0 0 1 ${p1} Z`
-          : `M${p0} A${r},${r} 0 0 1 ${p1}`;
+          ? `M${px},${py} L${p0} A${ARC_R},${ARC_R} 0 0 1 ${p1} Z`
+          : `M${p0} A${ARC_R},${ARC_R} 0 0 1 ${p1}`;
       });
 
     const sel = this.nodeLayer.selectAll<SVGGElement, HierarchyPointNode<ViewNode>>('g.feature')
@@ -198,16 +234,19 @@ export class Diagram {
           .attr('data-more', d.data.kids.length && d.data.hidden ? 'partial' : null);
       });
 
-    if (anchor && before) {
+    if (this.autoFit) {
+      // the user has not zoomed or panned: what is drawn is fitted to the panel again
+      this.fit(anchor !== null, true, anchor);
+    } else if (anchor && before) {
       const after = this.positions.get(anchor);
       if (after) {
-        const nt = t.translate(before.x - after.x, before.y - after.y);
-        this.svg.call(this.zoom.transform, nt);
+        this.fitting = true;
+        this.svg.call(this.zoom.transform, t.translate(before.x - after.x, before.y - after.y));
+        this.fitting = false;
       }
-    } else if (!this.fitted) {
-      this.fit(nodes);
     }
     this.restyle();
+    this.handlers.shown();
   }
 
   private currentTransform(): ZoomTransform {
@@ -215,26 +254,77 @@ export class Diagram {
     return node.__zoom ?? zoomIdentity;
   }
 
-  private fit(nodes: HierarchyPointNode<ViewNode>[]): void {
+  /** Fit the whole drawn diagram in the panel (never larger than 1.2). The automatic fit (on load,
+   * on resize) stops at a readable scale: a first level too wide for the panel is then shown from
+   * its root, and the fit button or key shows all of it. */
+  fit(animate = true, readable = false, anchor: string | null = null): void {
     const box = this.host.getBoundingClientRect();
-    if (!box.width || !box.height) {
+    if (!box.width || !box.height || !this.positions.size) {
       return;
     }
-    const xs = nodes.map((n) => n.x);
-    const ys = nodes.map((n) => n.y);
-    const minX = Math.min(...xs) - W / 2 - 10;
-    const maxX = Math.max(...xs) + W / 2 + 10;
-    const minY = Math.min(...ys) - H / 2 - 20;
-    const maxY = Math.max(...ys) + H / 2 + 24;
-    // never smaller than readable: a tree wider than the panel is shown from its root, and the
-    // user drags to see the rest (fitting 11 leaves into a half-screen panel drew 4 px text)
-    const k = Math.max(MIN_FIT_SCALE, Math.min(1.2, box.width / (maxX - minX), box.height / (maxY - minY)));
-    const rootX = nodes.length ? nodes[0].x : 0;
-    const tx = k * (maxX - minX) <= box.width ? box.width / 2 - k * (minX + maxX) / 2
-      : Math.min(-k * minX, Math.max(box.width - k * maxX, box.width / 2 - k * rootX));
-    const ty = 16 - k * minY;
-    this.svg.call(this.zoom.transform, zoomIdentity.translate(tx, ty).scale(k));
-    this.fitted = true;
+    const ps = [...this.positions.values()];
+    const minX = Math.min(...ps.map((p) => p.x)) - W / 2 - 12;
+    const maxX = Math.max(...ps.map((p) => p.x)) + W / 2 + 12;
+    const minY = Math.min(...ps.map((p) => p.y)) - H / 2 - 20;
+    const maxY = Math.max(...ps.map((p) => p.y)) + H / 2 + 26;
+    const bw = box.width - CONTROLS_W; // the zoom buttons keep the right edge
+    let k = Math.min(1.2, bw / (maxX - minX), box.height / (maxY - minY));
+    let tx = bw / 2 - k * (minX + maxX) / 2;
+    if (readable && k < MIN_AUTO_SCALE) {
+      // too wide to read whole. After an unfold: readable, centred on what was unfolded (the fit
+      // button shows all of it). Otherwise (on load, on resize): readable, but never so small
+      // that the first level does not fit, nor so large that it is cut
+      const keyOf = (pred: (key: string) => boolean) => [...this.positions.entries()].filter(([key]) => pred(key)).map(([, p]) => p.x);
+      const top = keyOf((key) => key.split('/').length <= 2);
+      const fMin = Math.min(...top) - W / 2 - 12;
+      const fMax = Math.max(...top) + W / 2 + 12;
+      if (anchor && this.positions.has(anchor)) {
+        k = MIN_AUTO_SCALE;
+        const sub = keyOf((key) => key === anchor || key.startsWith(anchor + '/'));
+        const sMin = Math.min(...sub) - W / 2 - 12;
+        const sMax = Math.max(...sub) + W / 2 + 12;
+        tx = bw / 2 - k * (sMin + sMax) / 2;
+        if (k * (sMax - sMin) > bw) {
+          tx = bw / 2 - k * (this.positions.get(anchor)?.x ?? 0);
+        }
+      } else {
+        k = Math.max(k, Math.min(MIN_AUTO_SCALE, bw / (fMax - fMin)));
+        const at = this.positions.get(this.root.id);
+        tx = bw / 2 - k * (at?.x ?? 0);
+        if (k * (fMax - fMin) <= bw) {
+          tx = Math.min(-k * fMin, Math.max(bw - k * fMax, tx));
+        }
+      }
+    }
+    const ty = 8 - k * minY; // top-aligned, as a tree reads
+    this.autoFit = true;
+    this.fitting = true;
+    const to = zoomIdentity.translate(tx, ty).scale(k);
+    if (animate) {
+      this.svg.transition().duration(250).call(this.zoom.transform, to).on('end', () => { this.fitting = false; });
+    } else {
+      this.svg.call(this.zoom.transform, to);
+      this.fitting = false;
+    }
+  }
+
+  /** Zoom around the selected feature when it is on screen, else around the middle of the top of
+   * the drawing (the tree hangs from there). */
+  zoomBy(factor: number): void {
+    this.autoFit = false;
+    const box = this.host.getBoundingClientRect();
+    const t = this.currentTransform();
+    let p: [number, number] = [(box.width - CONTROLS_W) / 2, Math.min(box.height / 2, 120)];
+    let sel: { x: number; y: number } | undefined;
+    this.nodeLayer.selectAll<SVGGElement, HierarchyPointNode<ViewNode>>('g.feature').each((d) => {
+      if (d.data.data.id === this.highlighted && !sel) sel = this.positions.get(d.data.key);
+    });
+    if (sel) {
+      const sx = t.applyX(sel.x);
+      const sy = t.applyY(sel.y);
+      if (sx >= 0 && sx <= box.width && sy >= 0 && sy <= box.height) p = [sx, sy];
+    }
+    this.svg.transition().duration(150).call(this.zoom.scaleBy, factor, p);
   }
 
   private buildNode(g: Selection<SVGGElement, unknown, null, undefined>, v: ViewNode): void {
@@ -245,7 +335,8 @@ export class Diagram {
     g.node()?.appendChild(title);
     // the circle on top: filled mandatory / empty optional under an allOf (and/[n..n]) parent; in
     // oneOf / someOf / [i..j] groups the group decides, and only an explicit `opt` is marked
-    const marked = v.parentGroup !== null && (v.parentGroup === 'allOf' || f.optional);
+    const marked = v.parentGroup !== null && (f.kind === 'mandatory' || f.kind === 'optional' ||
+      (f.kind === undefined && (v.parentGroup === 'allOf' || f.optional)));
     if (marked) {
       g.append('circle').attr('class', f.optional ? 'mark optional' : 'mark mandatory')
         .attr('cx', 0).attr('cy', -H / 2 - 6).attr('r', 5.5)
@@ -253,11 +344,12 @@ export class Diagram {
     }
     const box = g.append('rect').attr('class', 'box' + (f.ref ? ' ref' : ''))
       .attr('x', -W / 2).attr('y', -H / 2).attr('width', W).attr('height', H).attr('rx', 6);
-    const textX = -W / 2 + 10;
-    g.append('text').attr('class', 'name').attr('x', textX).attr('y', -H / 2 + 18).text(clip(f.name, 17));
-    g.append('text').attr('class', 'group').attr('x', textX).attr('y', -H / 2 + 34)
-      .text(f.group ? f.group.text : f.ref ? 'shared' : '');
-    g.append('text').attr('class', 'count').attr('x', textX).attr('y', -H / 2 + 50).text('');
+    const textX = -W / 2 + 8;
+    g.append('text').attr('class', 'name').attr('x', textX).attr('y', -H / 2 + 18)
+      .text(middleEllipsis(f.name, W - 44, NAME_FONT));
+    g.append('text').attr('class', 'group').attr('x', textX).attr('y', -H / 2 + 33)
+      .text(endEllipsis(f.group ? f.group.text : f.ref ? 'shared' : '', W - 44, GROUP_FONT));
+    g.append('text').attr('class', 'count').attr('x', textX).attr('y', -H / 2 + 48).text('');
     const hasKids = f.children.length > 0 && !f.ref;
     if (hasKids) {
       box.style('cursor', 'pointer');
@@ -267,29 +359,31 @@ export class Diagram {
         .text(v.hidden ? `••• ${v.hidden}` : '')
         .on('click', () => this.more(f.id, v.key));
     } else {
-      box.on('click', () => this.handlers.select(f));
+      box.on('click', () => {
+        this.highlighted = f.id;
+        this.restyle();
+        this.handlers.select(f);
+      });
     }
-    this.button(g, 'include', '+', W / 2 - 16, -H / 2 + 16, f);
-    this.button(g, 'exclude', '−', W / 2 - 16, H / 2 - 16, f);
+    if (!f.ref) {
+      this.button(g, 'include', '+', W / 2 - 14, -H / 2 + 14, f);
+      this.button(g, 'exclude', '−', W / 2 - 14, H / 2 - 14, f);
+    }
   }
 
   private button(g: Selection<SVGGElement, unknown, null, undefined>, kind: 'include' | 'exclude', glyph: string,
     x: number, y: number, f: FeatureNode): void {
     const b = g.append('g').attr('class', `btn btn-${kind}`).attr('transform', `translate(${x},${y})`)
       .attr('role', 'button').attr('tabindex', '0');
-    b.append('circle').attr('r', 10);
+    b.append('circle').attr('r', 9.5);
     b.append('text').attr('text-anchor', 'middle').attr('dy', '0.35em').text(glyph);
     b.append('title');
     const act = (ev: Event) => {
       ev.stopPropagation();
-      const st = this.status(f.id);
-      const want = kind === 'include';
+      this.highlighted = f.id;
+      this.handlers.select(f);
       // clicking your own decision again undoes it
-      if ((st === 'user-in' && want) || (st === 'user-out' && !want)) {
-        this.handlers.decide(f.id, null);
-      } else {
-        this.handlers.decide(f.id, want);
-      }
+      this.handlers.decide(f.id, nextValue(this.status(f.id), kind === 'include'));
     };
     b.on('click', act).on('keydown', (ev: KeyboardEvent) => {
       if (ev.key === 'Enter' || ev.key === ' ') {
@@ -318,11 +412,12 @@ export class Diagram {
     } else {
       this.expanded.add(id);
     }
-    this.render(key);
     const f = this.byId.get(id);
     if (f) {
+      this.highlighted = id;
       this.handlers.select(f);
     }
+    this.render(key);
   }
 
   setState(state: State): void {
@@ -341,18 +436,14 @@ export class Diagram {
       const g = select(groups[i]);
       const f = d.data.data;
       const st = this.status(f.id);
-      g.attr('class', `feature st-${st}${this.highlighted === f.id ? ' highlight' : ''}`).attr('data-status', st);
+      g.attr('class', `feature st-${st}${this.highlighted === f.id && !f.ref ? ' highlight' : ''}${this.linked.has(f.id) ? ' linked' : ''}`)
+        .attr('data-status', st);
       const n = counts?.features[f.id];
       const rem = counts?.remaining ?? null;
-      g.select('text.count').text(n !== undefined && rem !== null ? `in ${formatCount(n)} (${percent(n, rem)})` : counts ? '…' : '');
-      const words: Record<FeatureStatus, string> = {
-        'user-in': 'included (your decision)',
-        'user-out': 'excluded (your decision)',
-        'implied-in': 'included (implied)',
-        'implied-out': 'excluded (implied)',
-        open: 'open',
-      };
-      g.select('title').text(`${f.longName}: ${words[st]}` + (n !== undefined && rem !== null ? `\nin ${n} of ${rem} remaining products` : ''));
+      g.select('text.count').text(n !== undefined && rem !== null
+        ? endEllipsis(`in ${formatCount(n)} (${percent(n, rem)})`, W - 36, COUNT_FONT) : counts ? '…' : '');
+      g.select('title').text(`${f.longName}: ${STATUS_WORDS[st]}` + (f.kindText ? `\n${f.kindText}` : '') +
+        (n !== undefined && rem !== null ? `\nin ${formatCount(n)} of ${formatCount(rem)} remaining products` : ''));
       g.select('.btn-include title').text(st === 'user-in' ? `Undo: include ${f.name}` : `Include ${f.name}`);
       g.select('.btn-exclude title').text(st === 'user-out' ? `Undo: exclude ${f.name}` : `Exclude ${f.name}`);
       g.select('.btn-include').classed('active', st === 'user-in' || st === 'implied-in');
@@ -371,32 +462,7 @@ export class Diagram {
     return out;
   }
 
-  allIds(): string[] {
-    return [...this.byId.keys()];
-  }
-
-  find(query: string, limit = 20): FeatureNode[] {
-    const q = query.trim().toLowerCase();
-    if (!q) {
-      return [];
-    }
-    const starts: FeatureNode[] = [];
-    const contains: FeatureNode[] = [];
-    for (const f of this.byId.values()) {
-      const n = f.name.toLowerCase();
-      if (n.startsWith(q)) {
-        starts.push(f);
-      } else if (f.longName.toLowerCase().includes(q)) {
-        contains.push(f);
-      }
-      if (starts.length >= limit) {
-        break;
-      }
-    }
-    return [...starts, ...contains].slice(0, limit);
-  }
-
-  /** Expand the ancestors of a feature, centre on it and highlight it. */
+  /** Expand the ancestors of a feature, bring it into view and highlight it. */
   reveal(id: string): void {
     let c = id;
     let p = this.parentOf.get(id);
@@ -415,12 +481,34 @@ export class Diagram {
       }
     });
     const pos = key ? this.positions.get(key) : undefined;
-    if (pos) {
-      const box = this.host.getBoundingClientRect();
-      const k = Math.max(this.currentTransform().k, 0.8);
-      this.svg.transition().duration(300)
-        .call(this.zoom.transform, zoomIdentity.translate(box.width / 2 - k * pos.x, box.height / 2 - k * pos.y).scale(k));
+    if (!pos) {
+      return;
     }
+    const box = this.host.getBoundingClientRect();
+    const t = this.currentTransform();
+    const sx = t.applyX(pos.x);
+    const sy = t.applyY(pos.y);
+    const inside = sx - (W / 2) * t.k >= 0 && sx + (W / 2) * t.k <= box.width && sy - (H / 2) * t.k >= 0 &&
+      sy + (H / 2) * t.k <= box.height;
+    if (inside && t.k >= 0.5) {
+      return;
+    }
+    const k = Math.max(t.k, 0.8);
+    this.autoFit = false;
+    this.fitting = true;
+    this.svg.transition().duration(300)
+      .call(this.zoom.transform, zoomIdentity.translate(box.width / 2 - k * pos.x, box.height / 2 - k * pos.y).scale(k))
+      .on('end', () => { this.fitting = false; });
+  }
+
+  select(id: string | null): void {
+    this.highlighted = id;
+    this.restyle();
+  }
+
+  setLinked(ids: Set<string>): void {
+    this.linked = ids;
+    this.restyle();
   }
 
   expandAll(limit = 400): void {
@@ -439,7 +527,7 @@ export class Diagram {
       shown += k;
       order.push(...n.children.slice(0, k));
     }
-    this.fitted = false;
+    this.autoFit = true;
     this.render(null);
   }
 
@@ -448,16 +536,67 @@ export class Diagram {
     this.kidLimit.clear();
     this.pinned.clear();
     this.expanded.add(this.root.id);
-    this.fitted = false;
+    this.autoFit = true;
     this.render(null);
   }
 
-  refit(): void {
-    this.fitted = false;
-    this.render(null);
+  focus(): void {
+    (this.svg.node() as SVGSVGElement).focus({ preventScroll: true });
+  }
+
+  destroy(): void {
+    this.resize.disconnect();
+    this.controls.remove();
+    this.svg.remove();
+  }
+
+  /** The current zoom scale (tests). */
+  get scale(): number {
+    return this.currentTransform().k;
   }
 }
 
-function clip(s: string, n: number): string {
-  return s.length <= n ? s : s.slice(0, n - 1) + '…';
+/** A box wide enough for most of the model's names (the 90th percentile, 150 to 220 px). */
+function boxWidth(index: FeatureIndex): number {
+  const names = index.order.slice(0, 3000).map((f) => f.name);
+  if (!names.length) {
+    return 150;
+  }
+  const ws = names.map((n) => textWidth(n, NAME_FONT)).sort((a, b) => a - b);
+  const p90 = ws[Math.min(ws.length - 1, Math.floor(ws.length * 0.9))];
+  return Math.round(Math.max(150, Math.min(220, p90 + 46)));
+}
+
+/** Fit / zoom in / zoom out buttons in a corner of a panel. */
+export function zoomControls(host: HTMLElement, fit: () => void, zoom: (k: number) => void): HTMLElement {
+  const b = (cls: string, label: string, title: string, fn: () => void) => {
+    const x = el('button', { class: `zoom-btn ${cls}`, title, 'aria-label': title }, label);
+    x.addEventListener('click', (ev) => {
+      ev.stopPropagation();
+      fn();
+    });
+    return x;
+  };
+  const box = el('div', { class: 'zoom-controls' },
+    b('fit', '⤢', 'Fit to the panel (f)', fit), b('zoom-in', '+', 'Zoom in (+)', () => zoom(1.3)),
+    b('zoom-out', '−', 'Zoom out (-)', () => zoom(1 / 1.3)));
+  host.append(box);
+  return box;
+}
+
+/** f / 0: fit; + / =: zoom in; -: zoom out. */
+export function zoomKeys(ev: KeyboardEvent, fit: () => void, zoom: (k: number) => void): void {
+  if (ev.ctrlKey || ev.metaKey || ev.altKey) {
+    return;
+  }
+  if (ev.key === 'f' || ev.key === '0') {
+    fit();
+  } else if (ev.key === '+' || ev.key === '=') {
+    zoom(1.3);
+  } else if (ev.key === '-' || ev.key === '_') {
+    zoom(1 / 1.3);
+  } else {
+    return;
+  }
+  ev.preventDefault();
 }

@@ -62,3 +62,99 @@ export function el<K extends keyof HTMLElementTagNameMap>(
   }
   return e;
 }
+
+/** The exact count with thin groups of three digits (for "exact digits on demand"). */
+export function exactCount(s: string): string {
+  return s.replace(/\B(?=(\d{3})+(?!\d))/g, ',');
+}
+
+let canvas: HTMLCanvasElement | null = null;
+
+/** The width of `text` in `font` (a CSS font shorthand), in pixels. */
+export function textWidth(text: string, font: string): number {
+  canvas = canvas ?? document.createElement('canvas');
+  const ctx = canvas.getContext('2d');
+  if (!ctx) {
+    return text.length * 7;
+  }
+  ctx.font = font;
+  return ctx.measureText(text).width;
+}
+
+/** `text` shortened in the middle ("N_1003…F_100311") to fit `width` pixels in `font`: the
+ * start and the end of a name are what tell features apart. */
+const fitted = new Map<string, string>();
+
+export function middleEllipsis(text: string, width: number, font: string): string {
+  const key = `${font}|${Math.round(width)}|${text}`;
+  let got = fitted.get(key);
+  if (got === undefined) {
+    got = middle(text, width, font);
+    if (fitted.size > 20000) {
+      fitted.clear();
+    }
+    fitted.set(key, got);
+  }
+  return got;
+}
+
+function middle(text: string, width: number, font: string): string {
+  if (textWidth(text, font) <= width) {
+    return text;
+  }
+  let lo = 1;
+  let hi = text.length - 1;
+  let best = text[0] + '…';
+  while (lo <= hi) {
+    const keep = Math.floor((lo + hi) / 2);
+    const head = Math.ceil(keep / 2);
+    const cand = text.slice(0, head) + '…' + text.slice(text.length - (keep - head));
+    if (textWidth(cand, font) <= width) {
+      best = cand;
+      lo = keep + 1;
+    } else {
+      hi = keep - 1;
+    }
+  }
+  return best;
+}
+
+/** `text` cut at the end to fit `width` pixels. */
+export function endEllipsis(text: string, width: number, font: string): string {
+  if (textWidth(text, font) <= width) {
+    return text;
+  }
+  let lo = 0;
+  let hi = text.length;
+  while (lo < hi) {
+    const mid = Math.ceil((lo + hi) / 2);
+    if (textWidth(text.slice(0, mid) + '…', font) <= width) {
+      lo = mid;
+    } else {
+      hi = mid - 1;
+    }
+  }
+  return text.slice(0, lo) + '…';
+}
+
+/** The names a presence condition mentions ("Random && !Teleop" -> Random, Teleop). */
+export function conditionNames(cond: string | null | undefined): string[] {
+  if (!cond) {
+    return [];
+  }
+  const out = new Set<string>();
+  for (const m of cond.matchAll(/[A-Za-z_][\w.]*/g)) {
+    if (m[0] !== 'true' && m[0] !== 'false') {
+      out.add(m[0]);
+    }
+  }
+  return [...out];
+}
+
+/** "in 1,204 of 2,304 remaining (52 %)" */
+export function countPhrase(n: string | undefined, remaining: string | null | undefined): string {
+  if (n === undefined || remaining === null || remaining === undefined) {
+    return '';
+  }
+  return `in ${formatCount(n)} of ${formatCount(remaining)} remaining (${percent(n, remaining)})`;
+}

@@ -1,121 +1,440 @@
-// The configurator's page: feature diagram (left), computation graph and details (right),
-// problems (bottom). A thin client: every answer comes from tvl_lsp/configurator through the
-// host (tvl-lsp ui over HTTP, or the VS Code extension and the language server).
-import { Diagram } from './diagram';
-import { basename, el, formatCount } from './format';
-import { GraphView } from './graph';
+// The configurator's page: the features (a diagram as the thesis draws it, or an indented tree for
+// big models) beside the computation graph and the details of what is selected; the problems that
+// can still occur and your decisions below. A thin client: every answer comes from
+// tvl_lsp/configurator through the host (tvl-lsp ui over HTTP, or the VS Code extension and the
+// language server).
+import * as actions from './actions';
+import { countWithExact, renderFeature, renderGraphItem, renderNothing } from './details';
+import { Diagram, firstLevelScale } from './diagram';
+import { basename, conditionNames, el, exactCount, formatCount } from './format';
+import { GraphView, KINDS } from './graph';
+import { renderDecisions, renderProblems } from './lists';
+import { FeatureIndex, FeatureView } from './model';
+import type { Page, Selection } from './page';
+import { TreeView } from './tree';
 import { makeTransport, Transport } from './transport';
 import type {
-  Counts, DecideResult, Excerpt, FeatureNode, GenerateResult, GraphEdge, GraphElement, GraphJson, Location, ModelJson,
-  Problem, ProblemsJson, Refusal, State, Status, Targets,
+  Counts, DecideResult, Explanation, FeatureNode, GraphEdge, GraphElement, GraphJson, ModelJson, Problem, ProblemsJson,
+  Refusal, State, Status, Targets,
 } from './types';
+import { locLink, menu, relative, setWhere, sleep, tabs, toast } from './ui';
 
 const t: Transport = makeTransport();
+const root = document.getElementById('app') as HTMLElement;
+/** above this many features the tree is shown first (the user can switch) */
+export const TREE_ABOVE = 80;
+/** the diagram is not shown first when its first level would be drawn smaller than this */
+const MIN_FIRST_LEVEL_SCALE = 0.5;
 
-interface App {
-  model: ModelJson;
+function storageGet(key: string): string | null {
+  try {
+    return window.localStorage.getItem(key);
+  } catch {
+    return null;
+  }
+}
+
+function storageSet(key: string, value: string): void {
+  try {
+    window.localStorage.setItem(key, value);
+  } catch {
+    // no storage in this webview: the choice lasts for the page
+  }
+}
+
+function decisionsKey(d: Record<string, boolean>): string {
+  return JSON.stringify(Object.entries(d).sort());
+}
+
+class App implements Page {
+  readonly t = t;
   state: State;
-  counts: Counts | null;
-  diagram: Diagram;
-  graph: GraphView | null; // null: being built
-  graphJson: GraphJson | null;
-  graphStatus: Record<string, Status>;
-  showRuledOut: boolean;
-  showAllProblems: boolean;
-  problems: Problem[] | null; // null: being checked
-  problemStatus: Record<string, Status>;
+  counts: Counts | null = null;
+  view!: FeatureView;
+  graph: GraphView | null = null;
+  graphJson: GraphJson | null = null;
+  graphStatus: Record<string, Status> = {};
+  selection: Selection | null = null;
+  problems: Problem[] | null = null;
+  problemStatus: Record<string, Status> = {};
+  showRuledOut = false;
+  showAllProblems = false;
+  history: Record<string, boolean>[] = [];
+  index: FeatureIndex;
+  private countSeq = 0;
+  private countsKey = '';
+  private countStop = false; // the model will not be counted (compile budget spent)
+  private countStatus = 'pending';
+  private countMessage = '';
+  private moreTimer = 0;
+  private explained = new Map<string, Explanation>();
+  private busyN = 0;
+  private byFeature = new Map<string, GraphElement[]>();
+  private generateMenu!: ReturnType<typeof menu>;
+  closed = false;
+
+  constructor(public model: ModelJson, private targets: Targets | null) {
+    this.state = model.state;
+    this.index = new FeatureIndex(model.tree);
+  }
+
+  // ------------------------------------------------------------------ Page
+
+  busy(delta: number): void {
+    this.busyN += delta;
+    document.body.classList.toggle('busy', this.busyN > 0);
+  }
+
+  async reload(): Promise<void> {
+    await load(this.model.model); // the targets again: a pairing chosen on the page changes them
+  }
+
+  async decide(feature: string, value: boolean | null): Promise<void> {
+    const before = { ...this.state.decisions };
+    this.busy(1);
+    try {
+      const r = await t.request<DecideResult>('decide', { model: this.model.model, feature, value, counts: this.wanted() });
+      if (this.closed) return;
+      if (!r.refused) {
+        this.history.push(before);
+      }
+      this.applyState(r.state);
+      if (r.refused) {
+        showRefusal(r.refused);
+      } else {
+        document.querySelectorAll('.toast.refusal').forEach((n) => n.remove());
+        this.takeCounts(r.counts);
+      }
+    } catch (e) {
+      toast((e as Error).message, 'error');
+    } finally {
+      this.busy(-1);
+    }
+  }
+
+  async setDecisions(decisions: Record<string, boolean>, what: string): Promise<boolean> {
+    const before = { ...this.state.decisions };
+    this.busy(1);
+    try {
+      const r = await t.request<DecideResult>('set', { model: this.model.model, decisions, counts: this.wanted() });
+      if (this.closed) return false;
+      if (what !== 'undo') {
+        this.history.push(before);
+      }
+      this.applyState(r.state);
+      document.querySelectorAll('.toast.refusal').forEach((n) => n.remove());
+      if (r.refused) {
+        showRefusal(r.refused);
+      }
+      this.takeCounts(r.counts);
+      return !r.refused;
+    } catch (e) {
+      toast((e as Error).message, 'error');
+      return false;
+    } finally {
+      this.busy(-1);
+    }
+  }
+
+  async explain(feature: string): Promise<Explanation | null> {
+    const key = decisionsKey(this.state.decisions) + '|' + feature;
+    const hit = this.explained.get(key);
+    if (hit) {
+      return hit;
+    }
+    try {
+      const x = await t.request<Explanation>('explain', { model: this.model.model, feature });
+      this.explained.set(key, x);
+      if (this.explained.size > 500) {
+        this.explained.clear();
+      }
+      return x;
+    } catch {
+      return null;
+    }
+  }
+
+  revealFeature(id: string): void {
+    const f = this.index.byId.get(id);
+    if (!f) {
+      return;
+    }
+    document.body.dataset.pane = 'features';
+    this.view.reveal(id);
+    this.selectFeature(f);
+  }
+
+  selectGraph(id: string): void {
+    const e = this.graphJson?.elements.find((x) => x.id === id);
+    if (!e) {
+      return;
+    }
+    document.body.dataset.pane = 'graph';
+    this.graph?.show(id);
+    this.selectGraphItem(e, 'element');
+  }
+
+  graphLinksOf(feature: string): GraphElement[] {
+    return this.byFeature.get(feature) ?? [];
+  }
+
+  countNote(): string {
+    if (this.countStatus === 'gave-up' || this.countStatus === 'failed') {
+      return this.countMessage.startsWith('not counted') ? this.countMessage
+        : 'not counted: ' + (this.countMessage || 'the model could not be counted');
+    }
+    if (this.countStatus === 'compiling') {
+      return 'counting… (the model is being compiled)';
+    }
+    return 'counting…';
+  }
+
+  // ------------------------------------------------------------------ selection and details
+
+  selectFeature(f: FeatureNode): void {
+    this.selection = { kind: 'feature', id: f.id };
+    this.view.select(f.id);
+    const linked = new Set(this.graphLinksOf(f.id).map((e) => e.id));
+    this.graph?.setLinked(linked);
+    this.view.setLinked(new Set());
+    renderFeature(this, f);
+    this.askCount(f.id);
+  }
+
+  selectGraphItem(e: GraphElement | GraphEdge, kind: 'element' | 'edge'): void {
+    this.selection = { kind, id: e.id };
+    this.graph?.setLinked(new Set());
+    const names = new Set(conditionNames(e.condition).filter((n) => this.index.byId.has(n)));
+    this.view.setLinked(names);
+    this.view.select(null);
+    renderGraphItem(this, e, kind);
+  }
+
+  /** Refresh the details of what is selected (after every decision and every count). */
+  refreshDetails(): void {
+    const s = this.selection;
+    if (!s) {
+      return;
+    }
+    if (s.kind === 'feature') {
+      const f = this.index.byId.get(s.id);
+      if (f) renderFeature(this, f);
+      return;
+    }
+    const e = s.kind === 'element' ? this.graphJson?.elements.find((x) => x.id === s.id)
+      : this.graphJson?.edges.find((x) => x.id === s.id);
+    if (e) renderGraphItem(this, e, s.kind);
+  }
+
+  // ------------------------------------------------------------------ state
+
+  applyState(state: State): void {
+    this.state = state;
+    if (state.problems) {
+      this.problemStatus = state.problems;
+    }
+    this.view.setState(state);
+    renderProblems(this, false);
+    renderDecisions(this);
+    if (state.graph) {
+      this.graphStatus = state.graph;
+      void this.graph?.setStatus(state.graph);
+    }
+    this.updateGenerate();
+    document.body.dataset.complete = String(state.complete);
+    this.refreshDetails();
+  }
+
+  updateGenerate(): void {
+    const m = this.generateMenu;
+    if (!m) return;
+    const noLaunch = !this.model.launch;
+    m.button.disabled = noLaunch;
+    m.button.title = noLaunch
+      ? `${basename(this.model.model)} configures no launch file: choose one in the graph panel first`
+      : 'write configuration launch files (the launch file with every feature arg set) for products';
+    const s = this.state;
+    m.update('current', !s.complete, s.complete ? 'the configuration launch file of this product'
+      : `decide the ${s.open.length} open feature(s) first (or use Configuration ▸ Complete)`);
+  }
+
+  // ------------------------------------------------------------------ counts
+
+  private setCountStatus(state: string, text: string, title = '', progress: number | null = null): void {
+    this.countStatus = state;
+    const s = document.getElementById('count-status') as HTMLElement | null;
+    if (s) {
+      s.dataset.state = state;
+      s.textContent = text;
+      s.title = title;
+    }
+    const bar = document.getElementById('count-progress') as HTMLProgressElement | null;
+    if (bar) {
+      bar.hidden = progress === null;
+      if (progress !== null) bar.value = progress;
+    }
+    document.body.dataset.counts = state;
+  }
+
+  /** Counts that came with a decision's answer (the model is compiled); else ask for them. */
+  takeCounts(c: Counts | undefined): void {
+    if (!c || c.pending || this.countStop) {
+      void this.refreshCounts();
+      return;
+    }
+    this.countSeq++; // an older request in flight is stale now
+    this.countsKey = decisionsKey(this.state.decisions);
+    this.counts = c;
+    this.view.setCounts(c);
+    this.showCount(c);
+    this.refreshDetails();
+  }
+
+  /** Counts for the features on screen (and the selected one) under the current decisions. */
+  async refreshCounts(): Promise<void> {
+    if (this.countStop) {
+      this.view.setCounts(this.counts);
+      this.refreshDetails();
+      return;
+    }
+    const seq = ++this.countSeq;
+    const rem = document.getElementById('remaining') as HTMLElement;
+    rem.classList.add('pending');
+    this.setCountStatus('pending', '');
+    const key = decisionsKey(this.state.decisions);
+    let delay = 100;
+    try {
+      for (;;) {
+        const c = await t.request<Counts>('counts', { model: this.model.model, features: this.wanted(), timeout: 20, wait: 0 });
+        if (seq !== this.countSeq || this.closed) {
+          return;
+        }
+        if (c.pending) {
+          const secs = c.seconds ?? 0;
+          const budget = c.budget ?? 0;
+          this.countMessage = c.message ?? '';
+          this.setCountStatus('compiling', ` · compiling for counts… ${Math.round(secs)} s` +
+            (budget ? ` of ${Math.round(budget)} s` : ''), c.message ?? '', budget ? Math.min(1, secs / budget) : null);
+          await sleep(delay);
+          delay = Math.min(1000, delay * 1.6);
+          if (seq !== this.countSeq || this.closed) {
+            return;
+          }
+          continue;
+        }
+        this.countsKey = key;
+        this.counts = c;
+        this.view.setCounts(c);
+        this.showCount(c);
+        this.refreshDetails();
+        return;
+      }
+    } catch (e) {
+      if (seq === this.countSeq) {
+        rem.classList.remove('pending');
+        this.setCountStatus('failed', ' · counting failed', (e as Error).message);
+        toast(`Counting failed: ${(e as Error).message}`, 'error');
+      }
+    }
+  }
+
+  private showCount(c: Counts): void {
+    const rem = document.getElementById('remaining') as HTMLElement;
+    const tot = document.getElementById('total') as HTMLElement;
+    rem.classList.remove('pending');
+    this.countMessage = c.message ?? '';
+    if (c.status === 'gave-up') {
+      this.countStop = true;
+      rem.textContent = '—';
+      rem.dataset.remaining = '';
+      tot.textContent = '—';
+      this.setCountStatus('gave-up', ' · not counted', c.message ?? '');
+      toast(el('div', { class: 'gave-up' }, `${c.message}. The configurator works on without counts: decisions, what they imply, ` +
+        'refusals, the graph and the problems are all still exact.'), 'info', true);
+      return;
+    }
+    rem.textContent = formatCount(c.remaining);
+    rem.title = c.remaining ? `${exactCount(c.remaining)} (click for every digit)` : 'no answer in time';
+    rem.dataset.remaining = c.remaining ?? '';
+    tot.textContent = formatCount(c.total);
+    tot.title = c.total ? exactCount(c.total) : '';
+    if (c.remaining === null) {
+      this.setCountStatus('failed', ' · not counted', c.message ?? '');
+    } else {
+      this.setCountStatus('ready', c.complete ? '' : ' · some features not counted in time',
+        c.engine ? `counted by ${c.engine}${c.message ? ` (${c.message})` : ''}` : '');
+    }
+  }
+
+  /** The features whose counts are shown: on screen, and the selected one. */
+  wanted(): string[] {
+    const ids = this.view.visibleIds();
+    if (this.selection?.kind === 'feature' && !ids.includes(this.selection.id)) {
+      ids.push(this.selection.id);
+    }
+    return ids;
+  }
+
+  /** The view shows other features: ask for the counts it lacks (same decisions). */
+  shown(): void {
+    if (this.countStop || !this.counts || this.countsKey !== decisionsKey(this.state.decisions)) {
+      return;
+    }
+    clearTimeout(this.moreTimer);
+    this.moreTimer = window.setTimeout(() => void this.moreCounts(), 60);
+  }
+
+  askCount(id: string): void {
+    if (this.counts && !(id in this.counts.features)) {
+      this.shown();
+    }
+  }
+
+  private async moreCounts(): Promise<void> {
+    const c = this.counts;
+    const key = decisionsKey(this.state.decisions);
+    if (!c || this.countsKey !== key) {
+      return;
+    }
+    const missing = this.wanted().filter((x) => !(x in c.features));
+    if (!missing.length) {
+      return;
+    }
+    const seq = this.countSeq;
+    try {
+      const got = await t.request<Counts>('counts', { model: this.model.model, features: missing, timeout: 20, wait: 0 });
+      if (seq !== this.countSeq || this.countsKey !== key || got.pending || got.remaining === null) {
+        return;
+      }
+      this.counts = { ...c, features: { ...c.features, ...got.features } };
+      this.view.setCounts(this.counts);
+      this.refreshDetails();
+    } catch {
+      // the next decision asks again
+    }
+  }
+
+  // ------------------------------------------------------------------ the graph
+
+  indexGraph(g: GraphJson): void {
+    this.byFeature.clear();
+    for (const e of g.elements) {
+      for (const n of conditionNames(e.condition)) {
+        if (this.index.byId.has(n)) {
+          const lst = this.byFeature.get(n) ?? [];
+          lst.push(e);
+          this.byFeature.set(n, lst);
+        }
+      }
+    }
+  }
+
+  setGenerateMenu(m: ReturnType<typeof menu>): void {
+    this.generateMenu = m;
+  }
 }
 
 let app: App | null = null;
-let problemsKey = '';
-const PROBLEMS_SHOWN = 200;
-let countSeq = 0;
-let busy = 0;
-
-const root = document.getElementById('app') as HTMLElement;
-
-function setBusy(delta: number): void {
-  busy += delta;
-  document.body.classList.toggle('busy', busy > 0);
-}
-
-// ------------------------------------------------------------------ locations
-
-let roots: string[] = [];
-
-function relative(path: string): string {
-  for (const r of roots) {
-    const pre = r.endsWith('/') ? r : r + '/';
-    if (path.startsWith(pre)) {
-      return path.slice(pre.length);
-    }
-  }
-  return path;
-}
-
-function locText(loc: Location): string {
-  return `${relative(loc.path)}:${loc.line + 1}:${loc.col + 1}`;
-}
-
-function locLink(loc: Location | null, label?: string): HTMLElement {
-  if (!loc) {
-    return el('span', { class: 'muted' }, 'no location');
-  }
-  const a = el('a', { href: '#', class: 'loc', title: `show ${locText(loc)}` }, label ?? locText(loc));
-  a.addEventListener('click', (ev) => {
-    ev.preventDefault();
-    void showLocation(loc);
-  });
-  return a;
-}
-
-async function showLocation(loc: Location): Promise<void> {
-  if (t.reveal(loc)) {
-    return;
-  }
-  try {
-    const x = await t.request<Excerpt>('excerpt', { model: app?.model.model, path: loc.path, line: loc.line });
-    const pre = el('div', { class: 'excerpt' });
-    x.lines.forEach((line, i) => {
-      const n = x.start + i;
-      pre.append(el('div', { class: n === loc.line ? 'line target' : 'line' },
-        el('span', { class: 'ln' }, String(n + 1).padStart(4, ' ')), '  ', line));
-    });
-    modal(`${x.relative}:${loc.line + 1}:${loc.col + 1}`, pre);
-  } catch (e) {
-    toast(`Cannot show ${locText(loc)}: ${(e as Error).message}`, 'error');
-  }
-}
-
-// ------------------------------------------------------------------ toasts and modals
-
-function toast(content: string | Node, kind: 'info' | 'error' | 'refusal' = 'info', sticky = false): HTMLElement {
-  const box = document.getElementById('toasts') as HTMLElement;
-  const close = el('button', { class: 'close', title: 'dismiss', 'aria-label': 'dismiss' }, '×');
-  const item = el('div', { class: `toast ${kind}`, role: kind === 'info' ? 'status' : 'alert' }, content, close);
-  close.addEventListener('click', () => item.remove());
-  box.append(item);
-  if (!sticky) {
-    setTimeout(() => item.remove(), kind === 'error' ? 12000 : 7000);
-  }
-  return item;
-}
-
-function modal(title: string, body: Node): void {
-  const close = el('button', { class: 'close', title: 'close', 'aria-label': 'close' }, '×');
-  const dlg = el('div', { class: 'modal', role: 'dialog', 'aria-label': title },
-    el('div', { class: 'modal-box' }, el('div', { class: 'modal-head' }, el('strong', {}, title), close), body));
-  const done = () => dlg.remove();
-  close.addEventListener('click', done);
-  dlg.addEventListener('click', (ev) => ev.target === dlg && done());
-  document.addEventListener('keydown', function esc(ev) {
-    if (ev.key === 'Escape') {
-      done();
-      document.removeEventListener('keydown', esc);
-    }
-  });
-  document.body.append(dlg);
-}
 
 function showRefusal(r: Refusal): void {
   document.querySelectorAll('.toast.refusal').forEach((n) => n.remove());
@@ -140,7 +459,7 @@ function showRefusal(r: Refusal): void {
 
 // ------------------------------------------------------------------ header
 
-function header(targets: Targets | null, m: ModelJson): HTMLElement {
+function header(a: App, targets: Targets | null, m: ModelJson): HTMLElement {
   const picker = el('select', { id: 'model-picker', title: 'the feature model to configure' });
   const models = targets?.models ?? [{ model: m.model, launches: m.launches }];
   for (const x of models) {
@@ -155,355 +474,210 @@ function header(targets: Targets | null, m: ModelJson): HTMLElement {
     id: 'search', type: 'search', placeholder: 'Find a feature  ( / )', autocomplete: 'off', 'aria-label': 'find a feature',
   }) as HTMLInputElement;
   const results = el('ul', { id: 'search-results', role: 'listbox' });
+  let active = 0;
+  let found: FeatureNode[] = [];
+  const pick = (f: FeatureNode) => {
+    a.revealFeature(f.id);
+    results.replaceChildren();
+  };
   const runSearch = () => {
     results.replaceChildren();
-    const found = app?.diagram.find(search.value) ?? [];
-    for (const f of found) {
-      const li = el('li', { role: 'option', 'data-feature': f.id }, f.name, el('span', { class: 'muted' }, ' ' + f.longName));
+    found = a.index.find(search.value);
+    active = 0;
+    found.forEach((f, i) => {
+      const li = el('li', { role: 'option', 'data-feature': f.id, class: i === 0 ? 'active' : '' }, f.name,
+        f.longName !== f.name ? el('span', { class: 'muted' }, ' ' + f.longName) : null);
       li.addEventListener('mousedown', (ev) => {
         ev.preventDefault();
-        pickFeature(f);
-        results.replaceChildren();
+        pick(f);
       });
       results.append(li);
+    });
+    if (search.value.trim() && !found.length) {
+      results.append(el('li', { class: 'muted none' }, 'no feature has this name'));
     }
-  };
-  const pickFeature = (f: FeatureNode) => {
-    app?.diagram.reveal(f.id);
-    showFeature(f);
   };
   search.addEventListener('input', runSearch);
   search.addEventListener('keydown', (ev) => {
-    if (ev.key === 'Enter') {
-      const first = app?.diagram.find(search.value, 1)[0];
-      if (first) {
-        pickFeature(first);
+    if (ev.key === 'ArrowDown' || ev.key === 'ArrowUp') {
+      ev.preventDefault();
+      active = Math.max(0, Math.min(found.length - 1, active + (ev.key === 'ArrowDown' ? 1 : -1)));
+      [...results.children].forEach((c, i) => c.classList.toggle('active', i === active));
+    } else if (ev.key === 'Enter') {
+      const f = found[active] ?? a.index.find(search.value, 1)[0];
+      if (f) {
+        pick(f);
       }
-      results.replaceChildren();
     } else if (ev.key === 'Escape') {
       results.replaceChildren();
     }
   });
   search.addEventListener('blur', () => setTimeout(() => results.replaceChildren(), 150));
-  document.addEventListener('keydown', (ev) => {
-    if (ev.key === '/' && document.activeElement !== search && !(ev.target as Element)?.closest?.('input,select,textarea')) {
-      ev.preventDefault();
-      search.focus();
-    }
-  });
 
-  const reset = el('button', { id: 'reset', title: 'forget every decision' }, 'Reset');
-  reset.addEventListener('click', () => void resetAll());
-  const gen = el('div', { class: 'menu', id: 'generate-menu' });
-  const genBtn = el('button', { id: 'generate', 'aria-haspopup': 'true' }, 'Generate ▾');
-  const items = el('div', { class: 'menu-items', role: 'menu' });
-  const modes: [string, string, string][] = [
-    ['current', 'This product', 'the configuration launch file of the product you configured (every feature decided)'],
-    ['completions', 'Every completion', 'one configuration launch file per remaining product'],
-    ['sample', 'Pairwise sample', 'a sample of the remaining products covering every pair of feature choices'],
-  ];
-  for (const [mode, label, help] of modes) {
-    const b = el('button', { role: 'menuitem', 'data-mode': mode, title: help }, label);
+  const cfg = menu('configuration', 'Configuration', [
+    { id: 'complete-minimal', label: 'Complete: smallest product', title: 'decide every open feature: the product with the fewest features that respects your decisions', run: () => void actions.complete(a, 'minimal') },
+    { id: 'complete-random', label: 'Complete: random product', title: 'decide every open feature: a product drawn at random among the remaining ones', run: () => void actions.complete(a, 'random') },
+    { id: 'save', label: 'Save…', title: 'save your decisions next to the model (tvl-lsp JSON, FeatureIDE XML or .uvl.json)', run: () => void actions.saveDialog(a) },
+    { id: 'load', label: 'Load…', title: 'load a saved configuration: its decisions replace yours', run: () => void actions.loadDialog(a) },
+    { id: 'reset', label: 'Reset', title: 'forget every decision', run: () => void a.setDecisions({}, 'reset') },
+  ]);
+  const gen = menu('generate', 'Generate', [
+    { id: 'current', label: 'This product', title: 'the configuration launch file of the product you configured', run: () => void actions.generate(a, 'current') },
+    { id: 'completions', label: 'Every remaining product', title: 'one configuration launch file per remaining product', run: () => void actions.generate(a, 'completions') },
+    { id: 'sample', label: 'Pairwise sample', title: 'a sample of the remaining products covering every pair of feature choices', run: () => void actions.generate(a, 'sample') },
+    { id: 'all', label: 'Every product of the model', title: 'one configuration launch file per product, whatever your decisions', run: () => void actions.generate(a, 'all') },
+  ]);
+  gen.root.querySelectorAll('[data-action]').forEach((b) => b.setAttribute('data-mode', b.getAttribute('data-action') ?? ''));
+  a.setGenerateMenu(gen);
+
+  const remaining = el('span', { id: 'remaining', 'data-remaining': '', role: 'button', tabindex: '0' }, '…');
+  const exact = el('div', { id: 'exact-count', hidden: '' });
+  remaining.addEventListener('click', () => {
+    const c = a.counts;
+    if (!c?.remaining) return;
+    exact.hidden = !exact.hidden;
+    exact.replaceChildren(el('div', {}, el('strong', {}, 'Remaining products'), ' ', countWithExact(c.remaining)),
+      el('code', {}, exactCount(c.remaining)), el('div', { class: 'muted' }, `of ${exactCount(c.total ?? '')}`));
+  });
+  const paneSwitch = el('div', { class: 'pane-switch', role: 'tablist' });
+  for (const [k, label] of [['features', 'Features'], ['graph', 'Graph']]) {
+    const b = el('button', { 'data-pane': k }, label);
     b.addEventListener('click', () => {
-      gen.classList.remove('open');
-      void generate(mode);
+      document.body.dataset.pane = k;
     });
-    items.append(b);
+    paneSwitch.append(b);
   }
-  genBtn.addEventListener('click', () => gen.classList.toggle('open'));
-  document.addEventListener('click', (ev) => {
-    if (!gen.contains(ev.target as Node)) {
-      gen.classList.remove('open');
-    }
-  });
-  document.addEventListener('keydown', (ev) => {
-    if (ev.key === 'Escape') {
-      gen.classList.remove('open');
-    }
-  });
-  gen.append(genBtn, items);
-
-  const expand = el('button', { id: 'expand-all', title: 'expand the diagram (up to 400 features)' }, 'Expand');
-  expand.addEventListener('click', () => app?.diagram.expandAll());
-  const collapse = el('button', { id: 'collapse-all', title: 'collapse the diagram to the root' }, 'Collapse');
-  collapse.addEventListener('click', () => app?.diagram.collapseAll());
-
   return el('header', {},
-    el('div', { class: 'title' }, el('strong', {}, 'TVL configurator'), models.length > 1 ? picker : el('span', { class: 'muted' }, relative(m.model))),
+    el('div', { class: 'title' }, el('strong', {}, 'TVL configurator'),
+      models.length > 1 ? picker : el('span', { class: 'muted model-name' }, relative(m.model))),
     el('div', { id: 'count', 'aria-live': 'polite' },
-      el('span', { id: 'remaining', 'data-remaining': '' }, '…'), ' of ',
-      el('span', { id: 'total' }, '…'), ' products',
-      el('span', { id: 'count-status', class: 'muted', 'data-state': 'pending' }, '')),
+      remaining, ' of ', el('span', { id: 'total' }, '…'), ' products',
+      el('span', { id: 'count-status', class: 'muted', 'data-state': 'pending' }, ''),
+      el('progress', { id: 'count-progress', max: '1', value: '0', hidden: '' }), exact),
     el('div', { class: 'search' }, search, results),
-    el('div', { class: 'actions' }, expand, collapse, reset, gen),
+    el('div', { class: 'actions' }, paneSwitch, cfg.root, gen.root),
   );
 }
 
-// ------------------------------------------------------------------ details
+// ------------------------------------------------------------------ panels
 
-function details(): HTMLElement {
-  return document.getElementById('details') as HTMLElement;
+function legend(): HTMLElement {
+  const item = (cls: string, label: string) => el('span', { class: `legend-item ${cls}` }, el('i', {}), label);
+  return el('details', { class: 'legend-box' }, el('summary', { title: 'what the colours and marks mean' }, 'Legend'),
+    el('div', { class: 'legend' },
+      item('st-user-in', 'included (you)'), item('st-implied-in', 'included (implied)'),
+      item('st-user-out', 'excluded (you)'), item('st-implied-out', 'excluded (implied)'), item('st-open', 'open'),
+      el('span', { class: 'legend-item' }, el('b', { class: 'dot mandatory' }), 'mandatory'),
+      el('span', { class: 'legend-item' }, el('b', { class: 'dot optional' }), 'optional'),
+      el('span', { class: 'legend-item' }, 'arcs: oneOf hollow, someOf filled'),
+      el('span', { class: 'legend-item' }, 'keys: / find, f fit, + − zoom; tree: arrows, space include, x exclude')));
 }
 
-function featureStatusText(id: string): string {
-  const s = app?.state;
-  if (!s) {
-    return '';
-  }
-  if (id in s.decisions) {
-    return s.decisions[id] ? 'included — your decision' : 'excluded — your decision';
-  }
-  if (id in s.implied) {
-    return s.implied[id] ? 'included — implied by the model and your decisions' : 'excluded — implied by the model and your decisions';
-  }
-  return 'open';
-}
-
-function showFeature(f: FeatureNode): void {
-  const d = details();
-  const c = app?.counts;
-  const n = c?.features[f.id];
-  d.replaceChildren(
-    el('h3', {}, f.name, el('span', { class: 'kind' }, ' feature')),
-    el('dl', {},
-      el('dt', {}, 'Name'), el('dd', {}, f.longName),
-      el('dt', {}, 'Status'), el('dd', { 'data-field': 'status' }, featureStatusText(f.id)),
-      el('dt', {}, 'Products'), el('dd', {}, n !== undefined && c?.remaining ? `in ${n} of ${c.remaining} remaining` : 'counting…'),
-      el('dt', {}, 'Kind'), el('dd', {}, (f.optional ? 'optional' : 'mandatory') + (f.group ? `, group ${f.group.text} of ${f.children.length}` : '')),
-      el('dt', {}, 'Declared'), el('dd', {}, locLink(f.location)),
-      ...(f.constraints?.length ? [el('dt', {}, 'Constraints'), el('dd', {}, ...f.constraints.map((x) => el('code', { class: 'block' }, x)))] : []),
-    ),
-  );
-}
-
-function statusWords(st: string): string {
-  return st === 'certain' ? 'in every remaining product' : st === 'possible' ? 'in some remaining products' : 'in no remaining product';
-}
-
-function showGraphItem(e: GraphElement | GraphEdge, kind: 'element' | 'edge'): void {
-  const d = details();
-  const st = app?.graphStatus[e.id] ?? 'possible';
-  if (kind === 'edge') {
-    const x = e as GraphEdge;
-    d.replaceChildren(
-      el('h3', {}, `${x.kind}`, el('span', { class: 'kind' }, ' link')),
-      el('dl', {},
-        el('dt', {}, 'From'), el('dd', {}, x.source.replace(/^\w+:/, '')),
-        el('dt', {}, 'To'), el('dd', {}, x.target.replace(/^\w+:/, '')),
-        el('dt', {}, 'Condition'), el('dd', {}, x.condition ? el('code', {}, x.condition) : 'in every product'),
-        el('dt', {}, 'Now'), el('dd', { 'data-field': 'status' }, statusWords(st)),
-        el('dt', {}, 'Source'), el('dd', {}, locLink(x.location)),
-      ),
-    );
-    return;
-  }
-  const x = e as GraphElement;
-  const rows: (Node | string)[] = [
-    el('dt', {}, 'Name'), el('dd', {}, x.name),
-    el('dt', {}, 'Condition'), el('dd', { 'data-field': 'condition' }, x.condition ? el('code', {}, x.condition) : 'in every product'),
-    el('dt', {}, 'Now'), el('dd', { 'data-field': 'status' }, statusWords(st)),
-    el('dt', {}, 'Source'), el('dd', { 'data-field': 'location' }, locLink(x.location)),
-  ];
-  const det = x.details ?? {};
-  for (const [k, v] of Object.entries(det)) {
-    if (k === 'variants' && Array.isArray(v)) {
-      const ul = el('ul', {});
-      (v as { package: string; type: string; condition: string; location: Location | null }[]).forEach((r) =>
-        ul.append(el('li', {}, el('code', {}, `${r.package}/${r.type}`), ' when ', el('code', {}, r.condition), ' ', locLink(r.location))));
-      rows.push(el('dt', {}, 'Variants'), el('dd', {}, ul));
-    } else if (k === 'remaps' && Array.isArray(v)) {
-      if (v.length) {
-        const ul = el('ul', {});
-        (v as { from: string; to: string; condition: string; location: Location | null }[]).forEach((r) =>
-          ul.append(el('li', {}, el('code', {}, `${r.from} → ${r.to}`), ' when ', el('code', {}, r.condition), ' ', locLink(r.location))));
-        rows.push(el('dt', {}, 'Remaps'), el('dd', {}, ul));
-      }
-    } else if (v !== null && v !== undefined && v !== '') {
-      rows.push(el('dt', {}, k[0].toUpperCase() + k.slice(1)), el('dd', {}, typeof v === 'string' ? v : JSON.stringify(v)));
-    }
-  }
-  const links = (app?.graphJson?.edges ?? []).filter((l) => l.source === x.id || l.target === x.id);
-  if (links.length) {
-    const ul = el('ul', { 'data-field': 'links' });
-    for (const l of links) {
-      const other = l.source === x.id ? l.target : l.source;
-      const lst = app?.graphStatus[l.id] ?? 'possible';
-      ul.append(el('li', { class: `st-${lst}` }, `${l.kind} `, el('code', {}, other.replace(/^\w+:/, '')),
-        l.condition ? el('span', { class: 'muted' }, ` when ${l.condition}`) : null));
-    }
-    rows.push(el('dt', {}, x.kind === 'node' ? 'Topics / params' : 'Used by'), el('dd', {}, ul));
-  }
-  d.replaceChildren(el('h3', {}, x.label, el('span', { class: 'kind' }, ` ${x.kind}`)), el('dl', {}, ...rows));
-}
-
-// ------------------------------------------------------------------ problems
-
-function renderProblems(force = true): void {
-  const a = app;
-  const box = document.getElementById('problems') as HTMLElement;
-  if (!a) {
-    return;
-  }
-  // a click that changes no problem's status does not redraw the list (hundreds on big models)
-  const key = JSON.stringify([a.problems?.length ?? -1, a.problemStatus, a.showRuledOut, a.showAllProblems]);
-  if (!force && key === problemsKey) {
-    return;
-  }
-  problemsKey = key;
-  if (a.problems === null) {
-    box.replaceChildren(el('div', { class: 'panel-head' }, el('strong', {}, 'Problems'),
-      el('span', { class: 'muted', id: 'problem-count', 'data-checking': 'true' }, ' checking the model and its launch files…')));
-    return;
-  }
-  const shown: Problem[] = [];
-  const ruledOut: Problem[] = [];
-  for (const p of a.problems) {
-    const st = a.problemStatus[p.id] ?? 'certain';
-    (st === 'excluded' ? ruledOut : shown).push(p);
-  }
-  const list = el('ul', { class: 'problem-list' });
-  const item = (p: Problem, out: boolean) => {
-    const st = a.problemStatus[p.id];
-    const li = el('li', { class: `problem sev-${p.severity}${out ? ' ruled-out' : ''}`, 'data-code': p.code, 'data-status': st },
-      el('span', { class: `sev sev-${p.severity}`, title: p.severity }, p.severity[0].toUpperCase()),
-      el('span', { class: 'code' }, p.code),
-      el('span', { class: 'msg' }, p.message),
-      p.location ? locLink(p.location) : null,
-      st === 'possible' ? el('span', { class: 'tag', title: p.condition ? `when ${p.condition}` : 'in some products' }, 'in some products') : null,
-      out ? el('span', { class: 'tag' }, 'ruled out by your decisions') : null,
-    );
-    list.append(li);
-  };
-  const listed = [...shown.map((p) => [p, false] as const), ...(a.showRuledOut ? ruledOut.map((p) => [p, true] as const) : [])];
-  const limit = a.showAllProblems ? listed.length : PROBLEMS_SHOWN;
-  listed.slice(0, limit).forEach(([p, out]) => item(p, out));
-  if (listed.length > limit) {
-    const more = el('button', { class: 'more-problems' }, `show all ${listed.length}`);
-    more.addEventListener('click', () => {
-      a.showAllProblems = true;
-      renderProblems();
+function featureToolbar(a: App, box: HTMLElement, m: ModelJson): HTMLElement {
+  const seg = el('div', { class: 'segmented', role: 'tablist', 'aria-label': 'feature view' });
+  for (const [k, label] of [['diagram', 'Diagram'], ['tree', 'Tree']] as const) {
+    const b = el('button', { 'data-view': k, role: 'tab', title: k === 'tree' ? 'an indented tree (big models)' : 'the feature diagram (FODA, as the thesis draws it)' }, label);
+    b.addEventListener('click', () => {
+      storageSet(`tvl-view:${m.model}`, k);
+      setView(a, box, k);
     });
-    list.append(el('li', { class: 'problem' }, more));
+    seg.append(b);
   }
-  const toggle = el('label', { class: 'toggle' });
-  const cb = el('input', { type: 'checkbox', id: 'show-ruled-out' }) as HTMLInputElement;
-  cb.checked = a.showRuledOut;
-  cb.addEventListener('change', () => {
-    a.showRuledOut = cb.checked;
-    renderProblems();
+  const expand = el('button', { id: 'expand-all', class: 'small', title: 'expand every feature (the diagram: up to 400)' }, 'Expand');
+  expand.addEventListener('click', () => a.view.expandAll());
+  const collapse = el('button', { id: 'collapse-all', class: 'small', title: 'collapse to the first level' }, 'Collapse');
+  collapse.addEventListener('click', () => a.view.collapseAll());
+  return el('div', { class: 'panel-head' }, el('strong', {}, 'Features'),
+    el('span', { class: 'muted' }, ` ${m.name} · ${m.features.toLocaleString('en-US')} features`), seg, expand, collapse, legend());
+}
+
+function setView(a: App, box: HTMLElement, kind: 'diagram' | 'tree'): void {
+  if (a.view?.kind === kind) {
+    return;
+  }
+  a.view?.destroy();
+  box.replaceChildren();
+  const handlers = {
+    decide: (f: string, v: boolean | null) => void a.decide(f, v),
+    select: (f: FeatureNode) => a.selectFeature(f),
+    shown: () => a.shown(),
+  };
+  a.view = kind === 'tree' ? new TreeView(box, a.index, handlers) : new Diagram(box, a.index, handlers);
+  document.body.dataset.view = kind;
+  document.querySelectorAll('.segmented [data-view]').forEach((b) =>
+    b.setAttribute('aria-selected', String(b.getAttribute('data-view') === kind)));
+  a.view.setState(a.state);
+  a.view.setCounts(a.counts);
+  if (a.selection?.kind === 'feature') {
+    a.view.reveal(a.selection.id);
+  }
+  a.shown();
+}
+
+function graphToolbar(a: App): HTMLElement {
+  const search = el('input', { type: 'search', id: 'graph-search', placeholder: 'Find in the graph', 'aria-label': 'find in the graph' }) as HTMLInputElement;
+  const hits = el('span', { class: 'muted', id: 'graph-hits' });
+  search.addEventListener('input', () => {
+    const ids = a.graph?.search(search.value) ?? [];
+    hits.textContent = search.value.trim() ? `${ids.length} found` : '';
   });
-  toggle.append(cb, ` show ${ruledOut.length} ruled out`);
-  box.replaceChildren(
-    el('div', { class: 'panel-head' },
-      el('strong', {}, 'Problems'),
-      el('span', { id: 'problem-count', 'data-shown': String(shown.length), 'data-ruled-out': String(ruledOut.length) },
-        ` ${shown.length} can still occur` + (ruledOut.length ? `, ${ruledOut.length} ruled out by your decisions` : '')),
-      ruledOut.length ? toggle : null),
-    shown.length || a.showRuledOut ? list : el('div', { class: 'muted empty-problems' }, 'No problem can occur in the remaining products.'),
-  );
+  search.addEventListener('keydown', (ev) => {
+    if (ev.key === 'Enter') {
+      const ids = a.graph?.search(search.value) ?? [];
+      if (ids.length) a.selectGraph(ids[0]);
+    }
+  });
+  const kinds = el('div', { class: 'kinds', role: 'group', 'aria-label': 'show kinds' });
+  const hidden = new Set<string>();
+  for (const k of KINDS) {
+    const cb = el('input', { type: 'checkbox', 'data-kind': k }) as HTMLInputElement;
+    cb.checked = true;
+    cb.addEventListener('change', () => {
+      if (cb.checked) hidden.delete(k); else hidden.add(k);
+      a.graph?.setHiddenKinds(new Set(hidden));
+    });
+    kinds.append(el('label', { class: `legend-item g-${k}`, title: `show ${k === 'include' ? 'includes not followed' : k + 's'}` }, cb, el('i', {}),
+      k === 'param' ? 'param' : k));
+  }
+  const group = el('input', { type: 'checkbox', id: 'group-ns' }) as HTMLInputElement;
+  group.addEventListener('change', () => void a.graph?.setGrouped(group.checked));
+  const removed = el('input', { type: 'checkbox', id: 'show-removed' }) as HTMLInputElement;
+  removed.addEventListener('change', () => {
+    if (a.graph) {
+      a.graph.showRemoved = removed.checked;
+      a.graph.restyle();
+    }
+  });
+  return el('div', { class: 'graph-tools' }, search, hits, kinds,
+    el('label', { class: 'toggle', title: 'lay the graph out with a box per namespace' }, group, ' namespaces'),
+    el('label', { class: 'toggle', title: 'show what your decisions removed, faded' }, removed, ' removed'),
+    el('span', { class: 'legend-item g-dashed', title: 'dashed: in some remaining products only' }, el('i', {}), 'in some'));
 }
 
-// ------------------------------------------------------------------ state and counts
+function noTopicsNote(g: GraphJson): HTMLElement | null {
+  const n = g.noTopics;
+  if (!n) {
+    return null;
+  }
+  const what = el('ul', {},
+    el('li', {}, 'node hints in a HAROS project file (', el('code', {}, 'nodes: {pkg/type: {advertise: {/topic: msg/Type}}}'), ')',
+      n.types.length ? ` for ${n.types.slice(0, 6).join(', ')}${n.types.length > 6 ? ', …' : ''}` : ''),
+    el('li', {}, 'the nodes\' packages in the workspace, where tvl-lsp reads their publishers and subscribers from the sources' +
+      (n.sourcesAway.length ? ` (not in it: ${n.sourcesAway.slice(0, 6).join(', ')}${n.sourcesAway.length > 6 ? ', …' : ''})` : '')));
+  const close = el('button', { class: 'close', title: 'dismiss' }, '×');
+  const box = el('details', { class: 'graph-note', id: 'no-topics' },
+    el('summary', {}, el('strong', {}, 'No topics: '), 'nothing says what these nodes publish or subscribe to. What would add them?'),
+    what, close);
+  close.addEventListener('click', () => box.remove());
+  return box;
+}
 
-function applyState(state: State): void {
-  if (!app) {
+async function loadGraph(a: App, box: HTMLElement, panel: HTMLElement): Promise<void> {
+  if (!a.model.launch) {
+    await actions.pairPanel(a, box);
+    document.body.dataset.graph = 'none';
     return;
   }
-  app.state = state;
-  if (state.problems) {
-    app.problemStatus = state.problems;
-  }
-  app.diagram.setState(state);
-  renderProblems(false);
-  if (state.graph) {
-    app.graphStatus = state.graph;
-    void app.graph?.setStatus(state.graph);
-  }
-  const gen = document.querySelector('[data-mode="current"]') as HTMLButtonElement | null;
-  if (gen) {
-    gen.disabled = !state.complete;
-    gen.title = state.complete ? 'the configuration launch file of this product'
-      : `decide the ${state.open.length} open feature(s) first (or generate every completion)`;
-  }
-  document.body.dataset.complete = String(state.complete);
-}
-
-function sleep(ms: number): Promise<void> {
-  return new Promise((resolve) => setTimeout(resolve, ms));
-}
-
-/** The count status line: data-state is pending (asked), compiling (the model is being compiled
- * in the background: no counts yet), ready (counts shown) or failed. */
-function countStatus(state: string, text: string, title = ''): void {
-  const s = document.getElementById('count-status') as HTMLElement | null;
-  if (s) {
-    s.dataset.state = state;
-    s.textContent = text;
-    s.title = title;
-  }
-  document.body.dataset.counts = state;
-}
-
-async function refreshCounts(): Promise<void> {
-  const a = app;
-  if (!a) {
-    return;
-  }
-  const seq = ++countSeq;
-  const visible = a.diagram.visibleIds();
-  const shown = new Set(visible);
-  const order = [...visible, ...a.diagram.allIds().filter((x) => !shown.has(x))];
-  const rem = document.getElementById('remaining') as HTMLElement;
-  rem.classList.add('pending');
-  countStatus('pending', '');
-  a.diagram.setCounts(a.counts ? { ...a.counts, features: {} } : null);
-  // the model compiles in the background on first use: the server answers "pending" at once
-  // and we ask again, sooner at first (small models are ready in a few milliseconds)
-  let delay = 100;
-  try {
-    for (;;) {
-      const c = await t.request<Counts>('counts', { model: a.model.model, features: order, timeout: 20, wait: 0 });
-      if (seq !== countSeq || app !== a) {
-        return;
-      }
-      if (c.pending) {
-        const secs = c.seconds ? ` ${Math.round(c.seconds)} s` : '';
-        countStatus('compiling', ` · compiling the model for counting…${secs}`, c.message ?? '');
-        a.diagram.setCounts({ ...c, features: {} });
-        await sleep(delay);
-        delay = Math.min(1500, delay * 1.6);
-        if (seq !== countSeq || app !== a) {
-          return;
-        }
-        continue;
-      }
-      a.counts = c;
-      a.diagram.setCounts(c);
-      rem.textContent = formatCount(c.remaining);
-      rem.title = c.remaining ?? 'no answer in time';
-      rem.dataset.remaining = c.remaining ?? '';
-      const tot = document.getElementById('total') as HTMLElement;
-      tot.textContent = formatCount(c.total);
-      tot.title = c.total ?? '';
-      rem.classList.remove('pending');
-      if (c.remaining === null) {
-        countStatus('failed', ' · not counted', c.message ?? '');
-      } else {
-        countStatus('ready', c.complete ? '' : ' · some features not counted in time',
-          c.engine ? `counted by ${c.engine}${c.message ? ` (${c.message})` : ''}` : '');
-      }
-      return;
-    }
-  } catch (e) {
-    if (seq === countSeq) {
-      rem.classList.remove('pending');
-      countStatus('failed', ' · counting failed', (e as Error).message);
-      toast(`Counting failed: ${(e as Error).message}`, 'error');
-    }
-  }
-}
-
-async function loadGraph(a: App, box: HTMLElement): Promise<void> {
   const wait = el('div', { class: 'empty' }, 'Building the computation graph of every product…');
   box.append(wait);
   try {
@@ -513,8 +687,10 @@ async function loadGraph(a: App, box: HTMLElement): Promise<void> {
     }
     wait.remove();
     a.graphJson = g;
-    a.graph = new GraphView(box, g, { select: (e, k) => showGraphItem(e, k) }, () => t.layoutWorker());
-    // the decisions may have changed meanwhile: the latest state has the statuses
+    a.indexGraph(g);
+    const note = noTopicsNote(g);
+    if (note) panel.insertBefore(note, box);
+    a.graph = new GraphView(box, g, { select: (e, k) => a.selectGraphItem(e, k) }, () => t.layoutWorker());
     const st = a.state.graph ? a.state : await t.request<State>('state', { model: a.model.model });
     if (app !== a) {
       return;
@@ -522,6 +698,7 @@ async function loadGraph(a: App, box: HTMLElement): Promise<void> {
     a.graphStatus = st.graph ?? g.status ?? {};
     await a.graph.setStatus(a.graphStatus);
     document.body.dataset.graph = 'ready';
+    a.refreshDetails();
   } catch (e) {
     wait.textContent = `No computation graph: ${(e as Error).message}`;
   }
@@ -535,106 +712,27 @@ async function loadProblems(a: App): Promise<void> {
     }
     a.problems = r.problems;
     a.problemStatus = r.status ?? {};
-    // the decisions may have changed while the files were checked
-    applyState(await t.request<State>('state', { model: a.model.model }));
+    a.applyState(await t.request<State>('state', { model: a.model.model }));
+    renderProblems(a);
     document.body.dataset.problems = 'ready';
   } catch (e) {
     if (app === a) {
       a.problems = [];
-      renderProblems();
+      renderProblems(a);
       toast(`Checking the files failed: ${(e as Error).message}`, 'error');
     }
   }
 }
 
-async function decide(feature: string, value: boolean | null): Promise<void> {
-  const a = app;
-  if (!a) {
-    return;
+function defaultView(m: ModelJson, index: FeatureIndex, width: number): 'diagram' | 'tree' {
+  const saved = storageGet(`tvl-view:${m.model}`);
+  if (saved === 'diagram' || saved === 'tree') {
+    return saved;
   }
-  setBusy(1);
-  try {
-    const r = await t.request<DecideResult>('decide', { model: a.model.model, feature, value });
-    applyState(r.state);
-    if (r.refused) {
-      showRefusal(r.refused);
-    } else {
-      document.querySelectorAll('.toast.refusal').forEach((n) => n.remove());
-      void refreshCounts();
-    }
-  } catch (e) {
-    toast((e as Error).message, 'error');
-  } finally {
-    setBusy(-1);
+  if (m.features > TREE_ABOVE) {
+    return 'tree';
   }
-}
-
-async function resetAll(): Promise<void> {
-  const a = app;
-  if (!a) {
-    return;
-  }
-  setBusy(1);
-  try {
-    const r = await t.request<DecideResult>('reset', { model: a.model.model });
-    applyState(r.state);
-    document.querySelectorAll('.toast.refusal').forEach((n) => n.remove());
-    void refreshCounts();
-  } catch (e) {
-    toast((e as Error).message, 'error');
-  } finally {
-    setBusy(-1);
-  }
-}
-
-async function generate(mode: string): Promise<void> {
-  const a = app;
-  if (!a) {
-    return;
-  }
-  setBusy(1);
-  try {
-    const r = await t.request<GenerateResult>('generate', { model: a.model.model, mode });
-    const files = r.written ?? r.files.map((f) => f.path);
-    const ul = el('ul', { class: 'files' });
-    files.slice(0, 12).forEach((f) => ul.append(el('li', { 'data-path': f }, relative(f))));
-    if (files.length > 12) {
-      ul.append(el('li', { class: 'muted' }, `… and ${files.length - 12} more`));
-    }
-    const t1 = el('div', { class: 'generated', 'data-count': String(files.length) },
-      files.length ? `Wrote ${files.length} configuration launch file${files.length > 1 ? 's' : ''} to ${relative(r.folder)}:` : 'No product to write.', ul);
-    toast(t1, 'info', true);
-  } catch (e) {
-    toast(`Generate: ${(e as Error).message}`, 'error');
-  } finally {
-    setBusy(-1);
-  }
-}
-
-// ------------------------------------------------------------------ loading
-
-function legend(): HTMLElement {
-  const item = (cls: string, label: string) => el('span', { class: `legend-item ${cls}` }, el('i', {}), label);
-  return el('div', { class: 'legend' },
-    item('st-user-in', 'included (you)'), item('st-implied-in', 'included (implied)'),
-    item('st-user-out', 'excluded (you)'), item('st-implied-out', 'excluded (implied)'), item('st-open', 'open'),
-    el('span', { class: 'legend-item' }, el('b', { class: 'dot mandatory' }), 'mandatory'),
-    el('span', { class: 'legend-item' }, el('b', { class: 'dot optional' }), 'optional'),
-    el('span', { class: 'legend-item', title: 'a hollow arc: exactly one child (oneOf); a filled arc: at least one (someOf)' }, 'arcs: oneOf hollow, someOf filled'));
-}
-
-function graphLegend(): HTMLElement {
-  const item = (cls: string, label: string) => el('span', { class: `legend-item g-${cls}` }, el('i', {}), label);
-  const cb = el('input', { type: 'checkbox', id: 'show-removed' }) as HTMLInputElement;
-  cb.addEventListener('change', () => {
-    if (app?.graph) {
-      app.graph.showRemoved = cb.checked;
-      app.graph.restyle();
-    }
-  });
-  return el('div', { class: 'legend' }, item('node', 'node'), item('topic', 'topic'), item('param', 'parameter'),
-    item('service', 'service'), el('span', { class: 'legend-item g-dashed' }, el('i', {}), 'in some products'),
-    el('label', { class: 'toggle' }, cb, ' show removed'));
+  return firstLevelScale(index, width) < MIN_FIRST_LEVEL_SCALE ? 'tree' : 'diagram';
 }
 
 async function load(modelPath?: string | null, targets?: Targets | null): Promise<void> {
@@ -644,43 +742,72 @@ async function load(modelPath?: string | null, targets?: Targets | null): Promis
       targets = t.kind === 'http' ? await t.request<Targets>('targets') : null;
       modelPath = modelPath ?? targets?.initial ?? undefined;
     }
+    if (targets) {
+      setWhere({ transport: t, roots: targets.roots, model: () => app?.model.model });
+    }
     const m = await t.request<ModelJson>('model', modelPath ? { model: modelPath } : {});
-    roots = m.roots;
+    if (app) app.closed = true;
+    const a = new App(m, targets ?? null);
+    app = a;
+    setWhere({ transport: t, roots: m.roots, model: () => app?.model.model });
     root.classList.remove('loading');
     root.replaceChildren();
-    const diagramBox = el('section', { id: 'diagram', 'aria-label': 'feature diagram' });
+    const featureBox = el('section', { id: 'diagram', class: 'features', 'aria-label': 'features' });
     const graphBox = el('section', { id: 'graph', 'aria-label': 'computation graph' });
-    const side = el('div', { id: 'side' },
+    const left = el('div', { id: 'left' }, featureToolbar(a, featureBox, m), featureBox);
+    const graphPanel = el('div', { id: 'side' },
       el('div', { class: 'panel-head' }, el('strong', {}, 'Computation graph'),
-        el('span', { class: 'muted' }, m.launch ? ' ' + basename(m.launch) : ''), graphLegend()),
-      graphBox, el('section', { id: 'details', 'aria-label': 'details' },
-        el('div', { class: 'muted' }, 'Select a feature or a graph element to see its condition, source and links.')));
-    const main = el('main', {}, el('div', { id: 'left' },
-      el('div', { class: 'panel-head' }, el('strong', {}, 'Feature diagram'),
-        el('span', { class: 'muted' }, ` ${m.name} · ${m.features} features`), legend()), diagramBox), side);
-    root.append(header(targets ?? null, m), main, el('section', { id: 'problems', 'aria-label': 'problems' }),
+        el('span', { class: 'muted' }, m.launch ? ' ' + relative(m.launch) : ' (no launch file)'), m.launch ? graphToolbar(a) : null),
+      graphBox);
+    const details = el('section', { id: 'details', 'aria-label': 'details', 'aria-live': 'polite' });
+    const problems = el('section', { id: 'problems', 'aria-label': 'problems' });
+    const decisions = el('section', { id: 'decisions', 'aria-label': 'your decisions' });
+    const bottomTabs = tabs('bottom-tabs', [['problems', 'Problems', problems], ['decisions', 'Decisions', decisions]]);
+    const bottom = el('div', { id: 'bottom' }, bottomTabs.bar, problems, decisions);
+    root.append(header(a, targets ?? null, m), el('main', {}, left, graphPanel, details), bottom,
       el('div', { id: 'toasts', 'aria-live': 'polite' }));
-    // app must exist before the views call back into it
-    const a: App = {
-      model: m, state: m.state, counts: null, diagram: null as unknown as Diagram, graph: null, graphJson: null,
-      graphStatus: {}, showRuledOut: false, showAllProblems: false, problems: null, problemStatus: {},
-    };
-    app = a;
-    a.diagram = new Diagram(diagramBox, m.tree, {
-      decide: (f, v) => void decide(f, v),
-      select: (f) => showFeature(f),
-    });
-    applyState(m.state);
+    document.body.dataset.pane = 'features';
+    document.body.classList.toggle('no-launch', !m.launch);
+    renderNothing();
+    const width = featureBox.getBoundingClientRect().width || window.innerWidth / 2;
+    setView(a, featureBox, defaultView(m, a.index, width));
+    a.applyState(m.state);
+    renderProblems(a);
+    if (m.state.void) {
+      toast(el('div', { class: 'void' }, el('strong', {}, 'This model has no product'),
+        ' (it is void): every decision is refused with the reason. The problems below say what makes it void.'), 'error', true);
+    }
     document.body.dataset.ready = 'diagram';
-    void refreshCounts();
-    void loadGraph(a, graphBox);
+    void a.refreshCounts();
+    void loadGraph(a, graphBox, graphPanel);
     void loadProblems(a);
   } catch (e) {
     root.classList.remove('loading');
-    root.replaceChildren(el('div', { class: 'fatal' }, el('h2', {}, 'The configurator cannot open this workspace'),
-      el('p', {}, (e as Error).message)));
+    const others = (targets?.models ?? []).filter((x) => x.model !== modelPath);
+    const pick = el('select', { id: 'model-picker', 'aria-label': 'another model' });
+    pick.append(el('option', { value: '' }, 'open another model of the workspace…'));
+    others.forEach((x) => pick.append(el('option', { value: x.model }, relative(x.model))));
+    pick.addEventListener('change', () => pick.value && void load(pick.value, targets));
+    root.replaceChildren(el('div', { class: 'fatal' },
+      el('h2', {}, modelPath ? `The configurator cannot open ${relative(modelPath)}` : 'The configurator cannot open this workspace'),
+      el('p', {}, (e as Error).message), others.length ? pick : null));
   }
 }
+
+document.addEventListener('keydown', (ev) => {
+  const target = ev.target as Element | null;
+  if (target?.closest?.('input,select,textarea') || ev.ctrlKey || ev.metaKey || ev.altKey) {
+    return;
+  }
+  if (ev.key === '/') {
+    ev.preventDefault();
+    (document.getElementById('search') as HTMLInputElement | null)?.focus();
+  } else if (app?.view.kind === 'diagram' && !target?.closest?.('.tree, svg') && ['f', '+', '=', '-'].includes(ev.key)) {
+    // the zoom keys work wherever the focus is not in a field or in the other view
+    const d = app.view as Diagram;
+    if (ev.key === 'f') d.fit(); else d.zoomBy(ev.key === '-' ? 1 / 1.3 : 1.3);
+  }
+});
 
 t.onRefresh((reload) => {
   if (!app || reload) {
@@ -688,9 +815,11 @@ t.onRefresh((reload) => {
     return;
   }
   void (async () => {
-    const s = await t.request<State>('state', { model: app?.model.model });
-    applyState(s);
-    void refreshCounts();
+    const a = app;
+    if (!a) return;
+    const s = await t.request<State>('state', { model: a.model.model });
+    a.applyState(s);
+    void a.refreshCounts();
   })();
 });
 

@@ -13,6 +13,7 @@ export interface Group {
   lo: number;
   hi: number | null;
   text: string;
+  kinds?: string[]; // every group kind of the feature (a UVL feature may have several groups)
 }
 
 export interface FeatureNode {
@@ -20,6 +21,10 @@ export interface FeatureNode {
   name: string;
   longName: string;
   optional: boolean;
+  /** in its parent's group: root | mandatory | optional | member */
+  kind?: string;
+  /** the kind in words true to the model ("group member: alternative, exactly one of 3") */
+  kindText?: string;
   ref?: boolean; // a `shared` reference to a feature declared elsewhere
   location: Location | null;
   group?: Group;
@@ -46,12 +51,21 @@ export interface GraphEdge {
   location: Location | null;
 }
 
+export interface NoTopics {
+  types: string[];
+  sourcesHere: string[];
+  sourcesAway: string[];
+  projectFiles: string[];
+}
+
 export interface GraphJson {
   elements: GraphElement[];
   edges: GraphEdge[];
   source: string;
   status?: Record<string, Status>;
   notes?: string[];
+  /** set when the graph has nodes but no topic or service: what would add them */
+  noTopics?: NoTopics;
 }
 
 export interface Related {
@@ -79,6 +93,8 @@ export interface State {
   complete: boolean;
   problems: Record<string, Status> | null; // null: the files are not checked yet
   graph: Record<string, Status> | null; // null: the graph is not built yet
+  /** the model has no product at all */
+  void?: boolean;
 }
 
 export interface ProblemsJson {
@@ -109,6 +125,8 @@ export interface DecideResult {
   ok: boolean;
   state: State;
   refused?: Refusal;
+  /** the counts of the features asked for, when the model is compiled */
+  counts?: Counts;
 }
 
 export interface Counts {
@@ -125,6 +143,8 @@ export interface Counts {
   seconds?: number;
   /** d4 | pyganak | trivial: which engine counted */
   engine?: string | null;
+  /** seconds d4 may compile the model */
+  budget?: number;
 }
 
 export interface Targets {
@@ -138,6 +158,64 @@ export interface GenerateResult {
   written?: string[];
   folder: string;
   mode: string;
+  products?: number;
+  limit?: number;
+  cut?: boolean;
+  available?: number | null;
+}
+
+export interface Explanation {
+  feature: string;
+  value: boolean | null;
+  implied: boolean;
+  byDecisions: Record<string, boolean>;
+  because: { label: string; location: Location | null }[];
+  text: string;
+}
+
+export interface ConfigFile {
+  path: string;
+  name: string;
+  relative: string;
+  format: string;
+  mtime: number;
+}
+
+export interface ConfigsJson {
+  folder: string;
+  relative: string;
+  formats: string[];
+  files: ConfigFile[];
+}
+
+export interface SaveResult {
+  path: string;
+  relative: string;
+  text: string;
+  format: string;
+  written?: string[];
+}
+
+export interface LoadResult extends DecideResult {
+  loaded: { format: string; unknown: string[]; unknownCount: number; ignored: string[]; path: string; decisions: number };
+}
+
+export interface CompleteResult extends DecideResult {
+  added: Record<string, boolean>;
+  how: string;
+  engine: string;
+}
+
+export interface LaunchCandidate {
+  path: string;
+  relative: string;
+  args: number;
+  matches: number;
+}
+
+export interface LaunchesJson {
+  launch: string | null;
+  candidates: LaunchCandidate[];
 }
 
 export interface Excerpt {

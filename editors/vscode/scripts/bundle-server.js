@@ -27,7 +27,8 @@ if (wheels.length !== 1) {
   process.exit(1);
 }
 const buf = fs.readFileSync(path.join(out, wheels[0]));
-for (const need of ['tvl_lsp/__main__.py', 'tvl_lsp/grammars/tvl.lark']) {
+// the diagnostics catalogue: the server's hovers and the extension's explain pages read it
+for (const need of ['tvl_lsp/__main__.py', 'tvl_lsp/grammars/tvl.lark', 'tvl_lsp/data/diagnostics.md']) {
   if (buf.indexOf(Buffer.from(need)) < 0) {
     console.error(`bundle-server: ${wheels[0]} lacks ${need}`);
     process.exit(1);

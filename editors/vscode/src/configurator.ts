@@ -5,7 +5,8 @@
 import * as vscode from 'vscode';
 import { ExecuteCommandRequest, LanguageClient } from 'vscode-languageclient/node';
 
-const MODEL_OR_LAUNCH = /\.(tvl|launch|test)$|\.launch\.xml$/i;
+/** Models and the launch files the server analyses (ROS 1 XML, ROS 2 XML / YAML / Python). */
+export const MODEL_OR_LAUNCH = /\.(tvl|uvl|dimacs|launch|test)$|[._]launch\.(xml|yaml|yml|py)$/i;
 
 export class ConfiguratorPanel {
   static current: ConfiguratorPanel | undefined;
@@ -125,6 +126,14 @@ export class ConfiguratorPanel {
   private dispose(): void {
     ConfiguratorPanel.current = undefined;
     this.disposables.forEach((d) => d.dispose());
+    // the page's background work (compiling a big model for its counts) ends with the panel
+    const c = this.client();
+    if (c) {
+      void c.sendRequest(ExecuteCommandRequest.type, {
+        command: 'tvl-lsp.configurator',
+        arguments: [this.uri.toString(), 'close', {}],
+      }).then(undefined, () => undefined);
+    }
   }
 }
 

@@ -21,8 +21,10 @@ import {
 import { bundledWheel, ensureServer, readyServer, ServerCommand } from './bootstrap';
 // for the unit tests (test/unit), which load the bundle
 export { bundledWheel, environmentKey, ensureServer, findPython, readyServer } from './bootstrap';
+export { ExplainPages, explainUri, linkCodes } from './explain';
 
-import { ConfiguratorPanel } from './configurator';
+import { ConfiguratorPanel, MODEL_OR_LAUNCH } from './configurator';
+import { EXPLAIN_SCHEME, ExplainPages, explainUri, linkCodes } from './explain';
 
 const SECTION = 'tvl-lsp';
 let client: LanguageClient | undefined;
@@ -45,6 +47,11 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
     vscode.commands.registerCommand('tvl.count', () => count()),
     vscode.commands.registerCommand('tvl.listProducts', () => listProducts()),
     vscode.commands.registerCommand('tvl.generateConfigurations', () => generate()),
+    vscode.commands.registerCommand('tvl.explain', (code?: string) => explain(code)),
+    vscode.workspace.registerTextDocumentContentProvider(
+      EXPLAIN_SCHEME,
+      new ExplainPages((code) => exec<{ markdown?: string }>('tvl-lsp.explain', [code]).then((r) => r?.markdown)),
+    ),
     vscode.workspace.onDidChangeConfiguration((e) => {
       if (e.affectsConfiguration(`${SECTION}.server`)) {
         void vscode.window
@@ -223,7 +230,9 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
     debug: { command: how.command, args: how.args },
   };
   const watcher = vscode.workspace.createFileSystemWatcher(
-    '**/{*.tvl,*.launch,*.launch.xml,*.test,*.yaml,*.yml,package.xml}',
+    '**/{*.tvl,*.launch,*.launch.xml,*.test,*.yaml,*.yml,package.xml,' +
+      // the nodes' sources: what they publish and subscribe to is read from them (the graph)
+      '*.cpp,*.cc,*.cxx,*.h,*.hpp,*.hh,*.py,CMakeLists.txt,setup.cfg}',
   );
   context.subscriptions.push(watcher);
   const clientOptions: LanguageClientOptions = {
@@ -234,11 +243,26 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
       { scheme: 'file', language: 'xml', pattern: '**/*{.launch,.launch.xml,_launch.xml,.test}' },
       // ROS 2 launch files in YAML (the yaml language keeps its highlighting)
       { scheme: 'file', language: 'yaml', pattern: '**/*{.launch.yaml,.launch.yml,_launch.yaml,_launch.yml}' },
+      // the nodes' C++ and Python sources: editing one updates the graph and its findings; a
+      // hover on a topic name says where the node runs and who is on the other end; among the
+      // Python files, the ROS 2 launch files (*.launch.py, *_launch.py), analysed as launch files
+      { scheme: 'file', language: 'cpp' },
+      { scheme: 'file', language: 'c' },
+      { scheme: 'file', language: 'python' },
     ],
     synchronize: { fileEvents: watcher },
     initializationOptions: { [SECTION]: serverSettings() },
     outputChannel: output,
     middleware: {
+      // each diagnostic's code links to its page of the catalogue the server ships (explain.ts)
+      handleDiagnostics: (uri, diagnostics, next) => next(uri, linkCodes(diagnostics)),
+      provideDiagnostics: async (document, previousResultId, token, next) => {
+        const report = await next(document, previousResultId, token);
+        if (report && report.kind === 'full') {
+          report.items = linkCodes(report.items);
+        }
+        return report;
+      },
       workspace: {
         // Answer workspace/configuration for our section with the server's view of it.
         configuration: async (params, token, next) => {
@@ -296,7 +320,7 @@ function running(): LanguageClient | undefined {
 /** The model or launch file the command is about: the active editor's file. */
 function activeUri(): string | undefined {
   const doc = vscode.window.activeTextEditor?.document;
-  if (!doc || !/\.(tvl|launch|test)$|\.launch\.xml$/i.test(doc.fileName)) {
+  if (!doc || !MODEL_OR_LAUNCH.test(doc.fileName)) {
     void vscode.window.showErrorMessage('Open a TVL model or a launch file paired with one first.');
     return undefined;
   }
@@ -461,4 +485,26 @@ async function generate(): Promise<void> {
     const target = f.includes('://') ? vscode.Uri.parse(f) : vscode.Uri.file(f);
     await vscode.window.showTextDocument(target);
   }
+}
+
+// ------------------------------------------------------------------ diagnostic codes
+
+/** "TVL: Explain a diagnostic code": a code's page (what it means, an example, the fix) from the
+ * diagnostics catalogue inside the server's package, in the Markdown preview. */
+async function explain(code?: string): Promise<void> {
+  if (!code) {
+    const list = await exec<{ codes?: { code: string; severity: string; summary: string }[] }>('tvl-lsp.explain', []);
+    if (!list?.codes) {
+      return;
+    }
+    const pick = await vscode.window.showQuickPick(
+      list.codes.map((c) => ({ label: c.code, description: c.severity, detail: c.summary })),
+      { title: 'Explain a diagnostic code', matchOnDescription: true, matchOnDetail: true },
+    );
+    if (!pick) {
+      return;
+    }
+    code = pick.label;
+  }
+  await vscode.commands.executeCommand('markdown.showPreview', explainUri(code));
 }

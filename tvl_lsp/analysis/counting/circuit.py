@@ -153,6 +153,8 @@ class Circuit:
             evs.append(ev)
         self.vars_of = vs
         self.edge_vars = evs
+        # per edge: the node's variables the edge does not mention (free on that branch)
+        self.edge_gap = [[vs[i] & ~m for m in ev] for i, ev in enumerate(evs)]
         self.size = sum(len(e) for e in self.edges) + len(self.kind)
 
     # ------------------------------------------------------------------ passes
@@ -198,11 +200,10 @@ class Circuit:
                         break
                 mc.append(acc)
             else:  # or
-                nv = self.vars_of[i]
                 acc = 0
-                for v, ev in zip(vals, self.edge_vars[i]):
+                for v, gap in zip(vals, self.edge_gap[i]):
                     if v:
-                        acc += v << ((nv & ~ev & free).bit_count())
+                        acc += v << ((gap & free).bit_count())
                 mc.append(acc)
         scale = (self.universe & ~self.vars_of[self.root_index] & free).bit_count()
         return mc, evals, scale
@@ -266,12 +267,12 @@ class Circuit:
                                 else:
                                     delta[-x] -= w
                 else:
-                    nv = self.vars_of[i]
+                    gaps = self.edge_gap[i]
                     for j, (ch, pm, nm, lits) in enumerate(es):
                         v = vals[j]
                         if not v:
                             continue
-                        de = di << ((nv & ~self.edge_vars[i][j] & free).bit_count())
+                        de = di << ((gaps[j] & free).bit_count())
                         d[ch] += de
                         if lits:
                             w = de * v
@@ -319,8 +320,7 @@ class Circuit:
             if k == "a":
                 chosen = list(range(len(es)))
             else:
-                nv = self.vars_of[i]
-                weights = [v << ((nv & ~self.edge_vars[i][j] & free).bit_count()) if v else 0
+                weights = [v << ((self.edge_gap[i][j] & free).bit_count()) if v else 0
                            for j, v in enumerate(vals)]
                 pick = rng.randrange(sum(weights))
                 j = 0

@@ -12,13 +12,29 @@ d4 cannot be interrupted inside a call and prints ``c ...`` statistics on file d
   server's main process): the server counts in its worker processes.
 
 The child reads the CNF from a DIMACS file (d4's own reader), writes the NNF to the path it is given and prints
-one JSON line (``{"ok": true, "seconds": ..., "nodes": ..., "edges": ..., "count": "..."}``) on its stdout.
+one JSON line (``{"ok": true, "seconds": ..., "nodes": ..., "edges": ..., "count": "...", "nnf": [size,
+sha256]}``) on its stdout.
+
+Memory: d4 reserves address space up front -- about 1.8 GB it always needs, plus its cache's
+first page (4 GB by default): ~6 GB for a two-variable formula.  Under a limit on address space
+or data (``ulimit -v``, ``RLIMIT_DATA``: the check budget) an allocation d4 cannot make ends in a
+``std::bad_alloc`` or a segmentation fault.  So (:func:`memory_plan`): with no limit d4 runs as
+before; under a limit it never runs in the calling process -- the child raises its own soft
+limits to the hard ones (its limits are its own, not the caller's budget), sizes the cache's
+pages to the room left, and a crash is an :class:`EngineFailed` (the service then counts with
+pyganak); when even the hard limit leaves d4 no room, it is not started and the reason says
+so ("d4 needs about 2.1 GB of address space; this process may use 1.0 GB (ulimit -v)").
+
+The child dies with its parent (:mod:`tvl_lsp.base.children`: its own process group,
+``PR_SET_PDEATHSIG``); the parent kills its group on timeout or cancellation.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
+import signal
 import subprocess
 import sys
 import threading
@@ -32,12 +48,114 @@ Progress = Optional[Callable[[str], None]]
 
 _FD_LOCK = threading.Lock()
 
+MB = 1024 * 1024
+D4_FIXED = 1800 * MB       # address space d4 reserves whatever the cache's size (measured: 1.8 GB)
+D4_MARGIN = 256 * MB       # for the formula, the circuit and the interpreter around it
+D4_DEFAULT_PAGE = 4096 * MB  # d4's cache: its first page by default
+D4_MIN_PAGE = 16 * MB
+
+
+def address_limit(hard: bool = False) -> Optional[int]:
+    """The smaller of this process's address-space and data limits (soft, or ``hard``), in
+    bytes; None when there is none."""
+    try:
+        import resource
+    except ImportError:
+        return None
+    out = None
+    for which in ("RLIMIT_AS", "RLIMIT_DATA"):
+        r = getattr(resource, which, None)
+        if r is None:
+            continue
+        try:
+            v = resource.getrlimit(r)[1 if hard else 0]
+        except (OSError, ValueError):
+            continue
+        if v != resource.RLIM_INFINITY and v >= 0:
+            out = v if out is None else min(out, v)
+    return out
+
+
+def _in_use() -> int:
+    """This process's address space now (bytes)."""
+    try:
+        from ...base.files import read_head
+        raw = read_head("/proc/self/statm", 256)
+        return int((raw or b"0").split()[0]) * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, IndexError, OSError):
+        return 0
+
+
+def _gb(n: int) -> str:
+    return f"{n / (1024 * MB):.1f} GB"
+
+
+def memory_plan(limit: Optional[int], in_use: int) -> Optional[dict]:
+    """d4's cache options for a process that may use ``limit`` bytes of address space (None:
+    no limit) and uses ``in_use`` now: None for d4's defaults, else smaller pages.  Raises
+    EngineFailed when d4 has no room at all."""
+    if limit is None:
+        return None
+    room = limit - in_use - D4_FIXED - D4_MARGIN
+    if room >= D4_DEFAULT_PAGE + D4_DEFAULT_PAGE // 8:
+        return None
+    if room < D4_MIN_PAGE:
+        raise EngineFailed(f"d4 needs about {_gb(D4_FIXED + D4_MARGIN + D4_MIN_PAGE + in_use)} of address space; "
+                           f"this process may use {_gb(limit)} (ulimit -v / the memory budget)")
+    first = max(D4_MIN_PAGE, min(D4_DEFAULT_PAGE, room // 2))
+    return {"cache": {"bucket": {"sizeFirstPage": str(first), "sizeAdditionalPage": str(max(MB, first // 8))}}}
+
+
+def inprocess_plan(tiny: bool = False) -> tuple[bool, Optional[dict]]:
+    """May d4 run in this process, and with which cache options?  With room for its defaults
+    (no limit, or a generous one): yes.  Under a tighter limit only a ``tiny`` CNF (its cache
+    never outgrows a small first page), with pages sized to the room; otherwise no: a failed
+    allocation inside d4 is a crash, not an exception (a child process is used)."""
+    limit = address_limit()
+    if limit is None:
+        return True, None
+    try:
+        plan = memory_plan(limit, _in_use())
+    except EngineFailed:
+        return False, None
+    return (True, None) if plan is None else (tiny, plan if tiny else None)
+
+
+def inprocess_ok(tiny: bool = False) -> bool:
+    return inprocess_plan(tiny)[0]
+
+
+def check_room() -> None:
+    """Raise EngineFailed, with the reason, when not even a child process (which raises its
+    soft limits to the hard ones) has room for d4."""
+    limit = address_limit(hard=True)
+    if limit is not None:
+        memory_plan(limit, 64 * MB)
+
+
+def _merge(options: Optional[dict], extra: Optional[dict]) -> Optional[dict]:
+    if not extra:
+        return options
+    out = json.loads(json.dumps(options or {}))
+    for k, v in extra.items():
+        if isinstance(v, dict) and isinstance(out.get(k), dict):
+            out[k] = _merge(out[k], v)
+        else:
+            out[k] = v
+    return out
+
 
 def dimacs_bytes(nvars: int, clauses: Sequence[Sequence[int]]) -> bytes:
     parts = [f"p cnf {nvars} {len(clauses)}\n"]
     for c in clauses:
         parts.append(" ".join(map(str, c)) + " 0\n")
     return "".join(parts).encode()
+
+
+def decimal_int(value) -> int:
+    """d4's count (a decimal string) as an int, however many digits it has."""
+    from ...base.bignum import parse_decimal
+    return value if isinstance(value, int) else parse_decimal(str(value))
 
 
 def _d4_options(options: Optional[dict]):
@@ -47,23 +165,51 @@ def _d4_options(options: Optional[dict]):
     return py_d4.load_options_from_dict(options)
 
 
+def _raise_own_limits() -> None:
+    """A child's limits are its own: its soft address-space and data limits go up to the hard
+    ones (the caller's budget, e.g. ``--check``'s, was for the caller's work)."""
+    try:
+        import resource
+    except ImportError:
+        return
+    for which in ("RLIMIT_AS", "RLIMIT_DATA"):
+        r = getattr(resource, which, None)
+        if r is None:
+            continue
+        try:
+            soft, hard = resource.getrlimit(r)
+            if soft != hard:
+                resource.setrlimit(r, (hard, hard))
+        except (OSError, ValueError):
+            pass
+
+
 def compile_inprocess(nvars: int, clauses: Sequence[Sequence[int]], options: Optional[dict] = None,
-                      interruptible: bool = False) -> tuple[str, int]:
+                      interruptible: bool = False, tiny: bool = False) -> tuple[str, int]:
     """(NNF text, model count over variables 1..nvars) of the CNF (d4 in this process; fd 1
     silenced meanwhile).  ``interruptible`` (main thread of a command-line process only): Ctrl-C
     ends the process during the compilation (d4 does not return to Python to see it)."""
     if nvars == 0:  # d4 dies of a floating point exception on a CNF without variables
         return _no_vars(clauses)
+    ok, plan = inprocess_plan(tiny)
+    if not ok:
+        raise EngineFailed("d4 does not run in a process with a tight memory limit (use a child process)")
+    options = _merge(options, plan)
     import py_d4
     import signal
     old = None
-    if interruptible and threading.current_thread() is threading.main_thread():
-        old = signal.signal(signal.SIGINT, signal.SIG_DFL)
+    if threading.current_thread() is threading.main_thread():
+        # SIGTERM (and, ``interruptible``, Ctrl-C) ends the process during the compilation: d4
+        # does not return to Python for a handler to run (and there is nothing to clean up)
+        old = (signal.signal(signal.SIGINT, signal.SIG_DFL) if interruptible else None,
+               signal.signal(signal.SIGTERM, signal.SIG_DFL))
     try:
         return _compile_inprocess(py_d4, nvars, clauses, options)
     finally:
         if old is not None:
-            signal.signal(signal.SIGINT, old)
+            if old[0] is not None:
+                signal.signal(signal.SIGINT, old[0])
+            signal.signal(signal.SIGTERM, old[1])
 
 
 def _no_vars(clauses) -> tuple[str, int]:
@@ -82,8 +228,13 @@ def _compile_inprocess(py_d4, nvars, clauses, options) -> tuple[str, int]:
             cfg = _d4_options(options)
             s = py_d4.Solver([list(c) for c in clauses], nvars) if cfg is None else \
                 py_d4.Solver([list(c) for c in clauses], nvars, cfg)
-            r = s.compile()
-            return r.getNNFString(), int(r.count([]))
+            try:
+                r = s.compile()
+                return r.getNNFString(), decimal_int(r.count([]))
+            except MemoryError as e:  # (std::bad_alloc)
+                raise EngineFailed(f"d4 ran out of memory ({e})") from None
+            finally:
+                del s
         finally:
             os.dup2(saved, 1)
             os.close(saved)
@@ -96,14 +247,16 @@ def compile_cnf(nvars: int, clauses: Sequence[Sequence[int]], out_path: str, tim
     """Compile in a child process; the NNF lands in ``out_path``.  Returns the child's report
     (its ``count`` is the model count over variables 1..nvars, as an int).
     Raises CountTimeout / CountCancelled / EngineFailed."""
+    from ...base.safewrite import write_file
     if nvars == 0:  # d4 dies of a floating point exception on a CNF without variables
         text, count = _no_vars(clauses)
-        with open(out_path, "w") as fh:
-            fh.write(text)
-        return {"ok": True, "seconds": 0.0, "nodes": 1, "edges": 0, "count": count}
+        data = text.encode()
+        write_file(out_path, data, replace=True)
+        return {"ok": True, "seconds": 0.0, "nodes": 1, "edges": 0, "count": count,
+                "nnf": [len(data), hashlib.sha256(data).hexdigest()]}
+    check_room()
     cnf_path = out_path + ".cnf"
-    with open(cnf_path, "wb") as fh:
-        fh.write(dimacs_bytes(nvars, clauses))
+    write_file(cnf_path, dimacs_bytes(nvars, clauses), replace=True)
     try:
         return _run_child(cnf_path, out_path, timeout, cancel, progress, options, nice)
     finally:
@@ -118,15 +271,13 @@ def _run_child(cnf_path: str, out_path: str, timeout, cancel, progress, options,
     if options:
         cmd.append(json.dumps(options))
 
-    def pre():
-        if nice:
-            try:
-                os.nice(nice)
-            except OSError:
-                pass
-
-    proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            preexec_fn=pre if (nice and os.name == "posix") else None)
+    from ...base import children
+    proc = children.popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    if nice:
+        try:
+            os.setpriority(os.PRIO_PROCESS, proc.pid, min(19, os.getpriority(os.PRIO_PROCESS, 0) + nice))
+        except (OSError, AttributeError):
+            pass
     out: list[bytes] = []
     err: list[bytes] = []
 
@@ -159,9 +310,7 @@ def _run_child(cnf_path: str, out_path: str, timeout, cancel, progress, options,
                 last_report = now
                 progress(f"compiling with d4: {now - start:.0f} s")
     finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
+        children.kill(proc)  # (its process group; a no-op once it has ended)
         for t in threads:
             t.join(5)
     text = (out[0] if out else b"").decode(errors="replace")
@@ -174,10 +323,27 @@ def _run_child(cnf_path: str, out_path: str, timeout, cancel, progress, options,
                 pass
             break
     if proc.returncode != 0 or not report or not report.get("ok"):
-        why = (report or {}).get("error") or (err[0] if err else b"").decode(errors="replace").strip()[-300:]
-        raise EngineFailed(f"d4 failed (exit code {proc.returncode}): {why or 'no output'}")
-    report["count"] = int(report["count"])
+        why = (report or {}).get("error") or _last_line((err[0] if err else b"").decode(errors="replace"))
+        if proc.returncode is not None and proc.returncode < 0:
+            try:
+                name = signal.Signals(-proc.returncode).name
+            except ValueError:
+                name = f"signal {-proc.returncode}"
+            what = f"d4 crashed ({name})" + (": it may have run out of memory" if address_limit(True) else "")
+        else:
+            what = f"d4 failed (exit code {proc.returncode})"
+        raise EngineFailed(f"{what}: {why}" if why else what)
+    try:
+        report["count"] = int(report["count"], 16)
+    except (KeyError, TypeError, ValueError):
+        raise EngineFailed("d4's child process gave no count") from None
     return report
+
+
+def _last_line(text: str) -> str:
+    """The last meaningful line of a child's stderr (a Python traceback's last line), short."""
+    lines = [ln.strip() for ln in text.splitlines() if ln.strip()]
+    return lines[-1][-300:] if lines else ""
 
 
 def compile_file(cnf_path: str, out_path: str, timeout: Optional[float] = None, cancel: CancelLike = None,
@@ -186,50 +352,42 @@ def compile_file(cnf_path: str, out_path: str, timeout: Optional[float] = None, 
     return _run_child(cnf_path, out_path, timeout, cancel, progress, options, nice)
 
 
-def _die_with_parent() -> None:
-    """Linux: this compilation ends when the process that asked for it dies (a worker process
-    of the language server killed with SIGKILL leaves no d4 running)."""
-    parent = os.getppid()
-    try:
-        import ctypes
-        import signal
-        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
-    except Exception:  # noqa: BLE001 (elsewhere: the parent's kill on cancel still ends it)
-        return
-    if parent == 1 or os.getppid() != parent:
-        os._exit(1)
-
-
 def _worker_main(argv: list[str]) -> int:
+    from ...base.children import die_with_parent
+    die_with_parent()
     cnf_path, out_path = argv[0], argv[1]
     options = json.loads(argv[2]) if len(argv) > 2 else None
-    _die_with_parent()
     # d4 prints statistics on fd 1: keep our report channel apart and send d4's chatter away
     report_fd = os.dup(1)
     devnull = os.open(os.devnull, os.O_WRONLY)
     os.dup2(devnull, 1)
     report = os.fdopen(report_fd, "w")
     try:
+        _raise_own_limits()
+        options = _merge(options, memory_plan(address_limit(), _in_use()))
         import py_d4
+        from ...base.safewrite import write_file
         t0 = time.perf_counter()
         cfg = _d4_options(options)
         s = py_d4.Solver(cnf_path) if cfg is None else py_d4.Solver(cnf_path, cfg)
         r = s.compile()
-        nnf = r.getNNFString()
-        tmp = f"{out_path}.{os.getpid()}.tmp"
-        with open(tmp, "w") as fh:
-            fh.write(nnf)
-        os.replace(tmp, out_path)
-        count = str(r.count([]))  # a decimal string: the count can have thousands of digits
+        nnf = r.getNNFString().encode("ascii", errors="replace")
+        write_file(out_path, nnf, replace=True)  # (atomic: a temporary file renamed into place)
+        count = format(decimal_int(r.count([])), "x")  # hexadecimal: the count can have thousands of digits
         report.write(json.dumps({"ok": True, "seconds": time.perf_counter() - t0, "nodes": r.getNbNodes(),
-                                 "edges": r.getNbEdges(), "count": count}) + "\n")
+                                 "edges": r.getNbEdges(), "count": count,
+                                 "nnf": [len(nnf), hashlib.sha256(nnf).hexdigest()]}) + "\n")
         report.flush()
         return 0
+    except MemoryError as e:  # std::bad_alloc
+        report.write(json.dumps({"ok": False, "error": f"d4 ran out of memory ({e})"}) + "\n")
     except Exception as e:  # reported to the parent, which falls back on another engine
         report.write(json.dumps({"ok": False, "error": f"{type(e).__name__}: {e}"}) + "\n")
-        report.flush()
-        return 1
+    report.flush()
+    return 1
 
 
 if __name__ == "__main__":
-    sys.exit(_worker_main(sys.argv[1:]))
+    code = _worker_main(sys.argv[1:])
+    sys.stdout.flush()
+    os._exit(code)  # (no interpreter teardown: nothing is left to save)

@@ -97,9 +97,9 @@ def _dimacs(nvars: int, clauses: Iterable[Sequence[int]], projection: Optional[S
 
 def _count_subprocess(nvars, clauses, projection, timeout: Optional[float], cancel: CancelLike) -> int:
     data = _dimacs(nvars, clauses, projection)
-    env = dict(os.environ)
-    proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp.analysis.counting.projected"], stdin=subprocess.PIPE,
-                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env)
+    from ...base import children  # (its own process group; it dies with this process)
+    proc = children.popen([sys.executable, "-m", "tvl_lsp.analysis.counting.projected"], stdin=subprocess.PIPE,
+                          stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
     out: list[bytes] = []
 
     def feed():
@@ -132,14 +132,12 @@ def _count_subprocess(nvars, clauses, projection, timeout: Optional[float], canc
             if budget is not None and budget.spent():
                 raise CountTimeout(f"no answer within {timeout:g} s")
     finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
+        children.kill(proc)
     tr.join(5)
     text = (out[0] if out else b"").decode().strip()
     if proc.returncode != 0 or not text:
         raise RuntimeError(f"the counter failed (exit code {proc.returncode})")
-    return int(text.split()[-1])
+    return int(text.split()[-1], 16)  # (hexadecimal: a count can have more digits than int() reads)
 
 
 def simplify(nvars: int, clauses: Sequence[Sequence[int]], projection: Optional[Sequence[int]]):
@@ -243,7 +241,10 @@ def count_cnf(nvars: int, clauses: Sequence[Sequence[int]], projection: Optional
 
 
 def _worker_main() -> int:
-    """Read a DIMACS CNF (``c p show ... 0`` for the projection) on stdin, print the count."""
+    """Read a DIMACS CNF (``c p show ... 0`` for the projection) on stdin, print the count (in
+    hexadecimal)."""
+    from ...base.children import die_with_parent
+    die_with_parent()
     nvars = 0
     clauses: list[list[int]] = []
     projection = None
@@ -264,10 +265,12 @@ def _worker_main() -> int:
             else:
                 cur.append(x)
     n = _count_inprocess(nvars, clauses, projection)
-    sys.stdout.write(f"{n}\n")
+    sys.stdout.write(f"{n:x}\n")
     sys.stdout.flush()
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(_worker_main())
+    code = _worker_main()
+    sys.stdout.flush()
+    os._exit(code)

@@ -22,8 +22,8 @@ How a count is answered:
    auxiliary variables are not determined, when d4 fails, or when d4 runs out of its share of
    the time budget (three quarters of it; pyganak gets the rest).
 
-Every result says which engine answered.  ``ddnnife`` (the d-DNNF reasoner) answers t-wise
-sampling of big models (:mod:`.sampling`) from the same compiled file.
+Every result says which engine answered.  Uniform sampling draws from the compiled circuit;
+t-wise sampling needs no compilation (:mod:`tvl_lsp.analysis.sampling`: a warm SAT solver).
 """
 
 from __future__ import annotations
@@ -32,6 +32,7 @@ import logging
 import os
 import random
 import threading
+from collections import OrderedDict
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Iterable, Optional, Sequence
@@ -51,6 +52,7 @@ INPROCESS_MAX_VARS = 400
 INPROCESS_MAX_CLAUSES = 4000
 INPROCESS_BUDGETED_VARS = 150
 PYGANAK_INPROCESS_VARS = 100  # with a budget: bigger CNFs go to a killable child process
+PASSES_KEPT = 16  # passes kept per CNF (each: one count per feature)
 D4_SHARE = 0.75  # of a time budget, the part d4 gets before pyganak takes over
 MIN_FALLBACK_BUDGET = 0.2  # seconds: less is not worth starting pyganak's process
 
@@ -152,13 +154,18 @@ class CNFCounter:
         self.unused_aux = self.nvars - len(self.universe)
         self.key = C.cnf_key(self.nvars, self.clauses, extra=repr(sorted((d4_options or {}).items())))
         self.last_engine: Optional[str] = None
-        self._last_pass: Optional[tuple] = None  # ((circuit id, literals), (total, counts))
+        # the last passes: (circuit id, literals) -> (total, counts), most recent last
+        self._passes: "OrderedDict[tuple, tuple]" = OrderedDict()
+        self._passes_lock = threading.Lock()
 
     # ------------------------------------------------------------------ engines
     @property
     def trivially_unsat(self) -> bool:
         """An empty clause (d4 and pyganak settle every other unsatisfiable CNF themselves)."""
-        return any(not c for c in self.clauses)
+        got = self.__dict__.get("_trivially_unsat")
+        if got is None:  # the clauses do not change: looked at once (every click asks)
+            got = self.__dict__["_trivially_unsat"] = any(not c for c in self.clauses)
+        return got
 
     def d4_usable(self) -> bool:
         return self.determined and self._failure() is None
@@ -203,24 +210,26 @@ class CNFCounter:
             try:
                 small = self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES
                 tiny = self.nvars <= INPROCESS_BUDGETED_VARS and len(self.clauses) <= 10 * INPROCESS_BUDGETED_VARS
-                if tiny or (timeout is None and cancel is None and (self.inprocess or small)):
+                from .d4 import inprocess_ok
+                if (tiny or (timeout is None and cancel is None and (self.inprocess or small))) and inprocess_ok(tiny):
                     from .d4 import compile_inprocess
                     text, n = compile_inprocess(self.nvars, self.clauses, self.d4_options,
-                                                interruptible=self.inprocess)
+                                                interruptible=self.inprocess, tiny=tiny)
                     DISK.put(self.key, text, n)
-                else:
+                else:  # (under a memory limit always here: d4 sizes itself to its own limits)
                     from .d4 import compile_cnf
+                    from ...base.files import read_text
                     tmp = DISK.tmp_path(self.key)
                     try:
                         rep = compile_cnf(self.nvars, self.clauses, tmp, timeout=timeout, cancel=cancel,
                                           progress=progress, options=self.d4_options)
                         text = None
                         n = rep["count"]
-                        if DISK.adopt(self.key, tmp, n) is None:
-                            with open(tmp) as fh:  # no disk cache: keep it in memory
-                                text = fh.read()
+                        digest = tuple(rep["nnf"]) if isinstance(rep.get("nnf"), list) else None
+                        if DISK.adopt(self.key, tmp, n, digest) is None:
+                            text = read_text(tmp, C.NNF_MAX_BYTES)  # no disk cache: keep it in memory
                     finally:
-                        if os.path.exists(tmp):
+                        if os.path.lexists(tmp):
                             try:
                                 os.unlink(tmp)
                             except OSError:
@@ -231,9 +240,11 @@ class CNFCounter:
             except EngineFailed as e:
                 _FAILED[self.key] = (str(e), None)
                 raise
-            except (ImportError, OSError, RuntimeError) as e:
-                _FAILED[self.key] = (f"d4 failed: {type(e).__name__}: {e}", None)
-                raise EngineFailed(_FAILED[self.key][0]) from e
+            except (ImportError, OSError, RuntimeError, MemoryError) as e:
+                from ...base.safewrite import reason
+                why = reason(e) if isinstance(e, OSError) else f"{type(e).__name__}: {e}"
+                _FAILED[self.key] = (f"d4 failed: {why}", None)
+                raise EngineFailed(_FAILED[self.key][0]) from None
             if text is not None and DISK.path(self.key) is None:
                 self._load(text)
             return text, n, "d4"
@@ -281,17 +292,24 @@ class CNFCounter:
         return self._pass(circ, self._check_lits(assumptions))
 
     def _pass(self, circ: Circuit, lits: list[int]) -> FeatureCounts:
-        """One pass over the circuit under ``lits``; the last answer is kept (a configurator
-        click asks the same decisions twice: what they force, then every count)."""
+        """One pass over the circuit under ``lits``; the last PASSES_KEPT answers are kept (a
+        configurator click asks the same decisions twice -- what they force, then every count --
+        and an undo returns to decisions asked before)."""
         t0 = time.perf_counter()
         memo_key = (id(circ), frozenset(lits))
-        last = self._last_pass
-        if last is not None and last[0] == memo_key:
-            total, positive = last[1]
+        with self._passes_lock:
+            hit = self._passes.get(memo_key)
+            if hit is not None:
+                self._passes.move_to_end(memo_key)
+        if hit is not None:
+            total, positive = hit
         else:
             r = circ.counts(lits)
             total, positive = r.total, r.positive[: self.n_features + 1]
-            self._last_pass = (memo_key, (total, positive))
+            with self._passes_lock:
+                self._passes[memo_key] = (total, positive)
+                while len(self._passes) > PASSES_KEPT:
+                    self._passes.popitem(last=False)
         return FeatureCounts(total, list(positive), "d4", time.perf_counter() - t0)
 
     def on_disk(self) -> bool:
@@ -347,6 +365,12 @@ class CNFCounter:
 
         threading.Thread(target=run, name=f"tvl-compile-{self.label}", daemon=True).start()
         return CompileStatus("compiling", 0.0, f"compiling {self.label} with d4")
+
+    def gave_up(self) -> Optional[str]:
+        """Why d4 stopped compiling this CNF when it ran out of its time budget (None: it did
+        not): a host then stops asking for counts rather than trying pyganak on every request."""
+        failed = _FAILED.get(self.key)
+        return failed[0] if failed is not None and failed[1] is not None else None
 
     def status(self) -> CompileStatus:
         """The status without starting anything."""
@@ -563,8 +587,28 @@ def forget_failures() -> None:
                 del _JOBS[k]
 
 
-def cancel_all() -> None:
-    """Cancel every background compilation (a host that stops)."""
+def cancel_all(wait: Optional[float] = None) -> None:
+    """Cancel every background compilation (a host that stops); with ``wait``, wait at most that
+    many seconds for their d4 processes to be killed and reaped."""
     with _JOBS_LOCK:
-        for j in _JOBS.values():
+        jobs = list(_JOBS.values())
+        for j in jobs:
             j.cancel.set()
+    if wait:
+        deadline = time.monotonic() + wait
+        for j in jobs:
+            j.done.wait(max(0.0, deadline - time.monotonic()))
+
+
+def cancel_owned(owner: str, wait: Optional[float] = None) -> int:
+    """Cancel the background compilations started for ``owner`` (e.g. a configurator closed);
+    how many were running."""
+    with _JOBS_LOCK:
+        jobs = [j for j in _JOBS.values() if j.owner == owner and not j.done.is_set()]
+        for j in jobs:
+            j.cancel.set()
+    if wait:
+        deadline = time.monotonic() + wait
+        for j in jobs:
+            j.done.wait(max(0.0, deadline - time.monotonic()))
+    return len(jobs)

@@ -111,11 +111,10 @@ def main(argv: Optional[list[str]] = None) -> int:
         return 2
 
     from ...project.workspace import explicit_skip_reason
+    # a file named explicitly that is not checked gets a diagnostic of the report
+    # (file-not-checked: project.check.check_paths), not silence
     skipped = [(p, r) for p in paths if os.path.lexists(p) and not os.path.isdir(p)
                and (r := explicit_skip_reason(p)) is not None]
-    for p, reason in skipped:   # named explicitly: say why it is not checked rather than ignore it
-        print(f"tvl-lsp --check: {'error' if ns.strict else 'warning'}: {p} not checked: {reason}",
-              file=sys.stderr)
 
     try:
         from ...project.budget import cap_memory
@@ -129,8 +128,12 @@ def main(argv: Optional[list[str]] = None) -> int:
             diags = [d for d in diags if d.code not in ignore]
         text = render(ns.format, diags, default_read_file)
         if ns.output:
-            with open(ns.output, "w", encoding="utf-8", newline="\n") as fh:
-                fh.write(text)
+            from ...base.safewrite import write_output
+            try:  # atomic, never through a link; a full disk is one line, not a traceback
+                write_output(ns.output, text)
+            except OSError as ex:
+                print(f"tvl-lsp --check: {ex}", file=sys.stderr)
+                return 2
         else:
             sys.stdout.write(text)
             sys.stdout.flush()

@@ -15,7 +15,6 @@ unreadable input.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 
 
@@ -70,13 +69,11 @@ def main(argv: list[str]) -> int:
     if args.output == "-":
         sys.stdout.write(conv.text)
     else:
-        tmp = args.output + ".tmp"
-        try:
-            with open(tmp, "w", encoding="utf-8") as fh:
-                fh.write(conv.text)
-            os.replace(tmp, args.output)
+        from ...base.safewrite import write_output
+        try:  # atomic, never through a link
+            write_output(args.output, conv.text)
         except OSError as ex:
-            print(f"tvl-lsp convert: cannot write {args.output}: {ex.strerror}", file=sys.stderr)
+            print(f"tvl-lsp convert: {ex}", file=sys.stderr)
             return 2
     status = 0 if conv.exact else 1
     if args.verify:

@@ -183,23 +183,47 @@ def main(argv: list[str]) -> int:
             n, engine = c.value, c.engine
             if c.note and engine == "pyganak":
                 print(f"tvl-lsp count: counted with pyganak ({c.note})", file=sys.stderr)
+    except MemoryError:
+        print(f"tvl-lsp count: not enough memory to count {args.model} (a memory limit: ulimit -v?)", file=sys.stderr)
+        return 2
     except CountTimeout:
         if args.json:
             print(json.dumps({"model": args.model, "count": None, "timeout": True}))
         print(f"tvl-lsp count: no answer within {args.timeout:g} s", file=sys.stderr)
         return 2
     dt = time.monotonic() - t0
+    from ...base.bignum import decimal  # (counts of more than 4,300 digits: str() refuses them)
+    text = decimal(n)
     if args.json:
-        out = {"model": args.model, "count": n, "count_text": str(n), "digits": len(str(n)),
+        out = {"model": args.model, "count": _Raw(text), "count_text": text, "digits": len(text),
                "engine": engine, "include": args.include, "exclude": args.exclude,
                "n_features": m.n + (1 if isinstance(m, _DimacsModel) else 0), "seconds": round(dt, 3)}
         if per is not None:
-            out["features"] = per
+            out["features"] = {k: _Raw(decimal(v)) for k, v in per.items()}
             out["complete"] = len(per) == out["n_features"]
-        print(json.dumps(out))
+        print(_dumps(out))
     else:
         if per is not None:
             for name, k in per.items():
-                print(f"{name}\t{k}")
-        print(n)
+                print(f"{name}\t{decimal(k)}")
+        print(text)
     return 0
+
+
+class _Raw(str):
+    """A number already written in decimal, put in the JSON text as it is."""
+
+
+def _dumps(obj) -> str:
+    """``json.dumps`` with :class:`_Raw` numbers written as JSON numbers of any size."""
+    raws: list[str] = []
+
+    def swap(o):
+        if isinstance(o, _Raw):
+            raws.append(str(o))
+            return f"\0{len(raws) - 1}\0"
+        if isinstance(o, dict):
+            return {k: swap(v) for k, v in o.items()}
+        return o
+    text = json.dumps(swap(obj))
+    return re.sub(r'"\\u0000(\d+)\\u0000"', lambda m: raws[int(m.group(1))], text)

@@ -1,22 +1,17 @@
 """``tvl-lsp --explain CODE``: print the documentation of a diagnostic code.
 
-The text is the code's section of ``docs/diagnostics.md`` (``## `code` `` headings); without
-the docs (an installed wheel) the registered one-line summary is printed.  ``--explain``
-alone lists every code.
+The text is the code's page in the diagnostics catalogue, ``tvl_lsp/data/diagnostics.md``
+(package data: an installed wheel has it; ``tvl_lsp.base.catalogue`` reads it).  Should the
+catalogue be missing (a broken install) the registered one-line summary is printed.
+``--explain`` alone lists every code.
 """
 
 from __future__ import annotations
 
-import re
 import sys
-from pathlib import Path
 from typing import Optional
 
-_PACKAGE = Path(__file__).resolve().parents[2]  # tvl_lsp/
-DOC_CANDIDATES = (
-    _PACKAGE.parent / "docs" / "diagnostics.md",
-    _PACKAGE / "data" / "diagnostics.md",
-)
+from ...base.catalogue import all_sections, catalogue_text as doc_text, sections  # noqa: F401 (re-exported)
 
 
 def load_codes() -> dict:
@@ -36,49 +31,47 @@ def load_codes() -> dict:
     return CODES
 
 
-def doc_text() -> Optional[str]:
-    for p in DOC_CANDIDATES:
-        if p.is_file():
-            return p.read_text(encoding="utf-8")
-    return None
-
-
-def sections(text: str) -> dict[str, str]:
-    """code -> its section (heading included) from docs/diagnostics.md."""
-    out: dict[str, str] = {}
-    heads = list(re.finditer(r"(?m)^## `([a-z0-9-]+)`.*$", text))
-    for i, m in enumerate(heads):
-        end = heads[i + 1].start() if i + 1 < len(heads) else len(text)
-        body = text[m.start():end]
-        # stop at a following level-1 heading or rule
-        nl = body.find("\n")
-        h1 = re.search(r"(?m)^(# |---\s*$)", body[nl + 1:]) if nl >= 0 else None
-        if h1:
-            body = body[: nl + 1 + h1.start()]
-        out[m.group(1)] = body.rstrip() + "\n"
-    return out
-
-
 def explain(code: str) -> Optional[str]:
     codes = load_codes()
-    text = doc_text()
-    if text is not None:
-        sec = sections(text).get(code)
-        if sec is not None:
-            return sec
+    sec = all_sections().get(code)
+    if sec is not None:
+        return sec
     info = codes.get(code)
     if info is None:
         return None
     return f"## `{code}` ({info.severity.label}, {info.area})\n\n{info.summary}\n"
 
 
+def listing(codes: dict, width: Optional[int] = None) -> str:
+    """Every code in an aligned table (code, default severity, summary), grouped by nothing but
+    the alphabet.  On a terminal the summaries wrap under their column; piped, one line a code."""
+    import shutil
+    import textwrap
+    if width is None and sys.stdout.isatty():
+        width = shutil.get_terminal_size((100, 24)).columns
+    cw = max(len("CODE"), *(len(c) for c in codes))
+    sw = max(len("SEVERITY"), *(len(i.severity.label) for i in codes.values()))
+    indent = cw + sw + 4
+    lines = [f"{'CODE':<{cw}}  {'SEVERITY':<{sw}}  SUMMARY"]
+    for c in sorted(codes):
+        i = codes[c]
+        head = f"{c:<{cw}}  {i.severity.label:<{sw}}  "
+        if width and width - indent >= 30:
+            body = textwrap.wrap(i.summary, width - indent) or [""]
+            lines.append(head + body[0])
+            lines += [" " * indent + b for b in body[1:]]
+        else:
+            lines.append(head + i.summary)
+    lines.append("")
+    lines.append(f"{len(codes)} codes.  tvl-lsp --explain CODE prints a code's page: what it means, an "
+                 "example, the fix.")
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: Optional[list[str]] = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or argv[0] in ("--list", "-l"):
-        codes = load_codes()
-        for c in sorted(codes):
-            i = codes[c]
-            print(f"{c:28} {i.severity.label:11} {i.summary}")
+        sys.stdout.write(listing(load_codes()))
         return 0
     if argv[0] in ("-h", "--help"):
         print("usage: tvl-lsp --explain CODE   (no CODE: list every code)")

@@ -3,8 +3,9 @@
 The variability-aware computation graph of a generic launch file: its ROS nodes, topics,
 services, parameters and links in every product of its model at once, each with its presence
 condition; ``--include`` / ``--exclude`` restrict it to the products with / without features
-(certain elements then have no condition, impossible ones are gone).  The topics come from the
-node hints of the HAROS project file (``nodes:``).  See docs/graph.md.
+(certain elements then have no condition, impossible ones are gone).  What each node uses is
+read from its package's sources in the workspace (C++ and Python, ``tvl-lsp extract`` shows it)
+and from the node hints of the HAROS project file (``nodes:``).  See docs/graph.md.
 
 Exit status: 0; 1 when no product satisfies the decisions; 2 on usage errors (unknown feature,
 unreadable file).
@@ -35,13 +36,19 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--project", action="append", default=None, metavar="FILE",
                     help="HAROS project file(s) with the node hints (default: those naming the launch file)")
     ap.add_argument("--workspace", metavar="DIR", help="the workspace folder (default: found from LAUNCH)")
-    ap.add_argument("--no-params", action="store_true", help="DOT / Mermaid: leave parameters out")
+    ap.add_argument("--no-params", action="store_true", help="leave parameters out")
+    ap.add_argument("--no-services", action="store_true", help="leave services out")
+    ap.add_argument("--no-actions", action="store_true", help="leave actions out")
+    ap.add_argument("--no-leaf-topics", action="store_true",
+                    help="leave out topics only published or only subscribed to (rqt_graph's \"hide leaf topics\")")
+    ap.add_argument("--no-sources", action="store_true",
+                    help="do not read what the nodes use from their packages' sources (hints only)")
     ap.add_argument("--output", "-o", metavar="FILE", help="write to FILE instead of standard output")
     try:
         args = ap.parse_args(argv)
     except SystemExit as ex:
         return 2 if ex.code else 0
-    from ...graph import NoProducts, UnknownFeature, to_dot, to_json, to_mermaid
+    from ...graph import NoProducts, UnknownFeature, to_dot, to_json, to_mermaid, view
     from ...project.graph import GraphError, load_graph
 
     path = os.path.abspath(args.launch)
@@ -55,7 +62,7 @@ def main(argv: list[str]) -> int:
     decisions = {**{f: True for f in args.include}, **{f: False for f in args.exclude}}
     try:
         ctx = load_graph(path, roots=[args.workspace] if args.workspace else None, model=args.model,
-                         project_files=args.project)
+                         project_files=args.project, sources=not args.no_sources)
     except GraphError as ex:
         print(f"tvl-lsp graph: {ex}", file=sys.stderr)
         return 2
@@ -79,6 +86,11 @@ def main(argv: list[str]) -> int:
             return 1
     finally:
         ctx.close()
+    if ctx.extraction is not None:
+        for n in sorted(set(ctx.extraction.notes))[:20]:
+            print(f"tvl-lsp graph: note: {n}", file=sys.stderr)
+    g = view(g, services=not args.no_services, actions=not args.no_actions, parameters=not args.no_params,
+             leaf_topics=not args.no_leaf_topics)
     if args.format == "json":
         out = json.dumps(to_json(g), indent=2) + "\n"
     elif args.format == "dot":
@@ -86,8 +98,12 @@ def main(argv: list[str]) -> int:
     else:
         out = to_mermaid(g, parameters=not args.no_params)
     if args.output:
-        with open(args.output, "w", encoding="utf-8") as fh:
-            fh.write(out)
+        from ...base.safewrite import write_output
+        try:  # atomic, never through a link
+            write_output(args.output, out)
+        except OSError as ex:
+            print(f"tvl-lsp graph: {ex}", file=sys.stderr)
+            return 2
     else:
         sys.stdout.write(out)
     return 0

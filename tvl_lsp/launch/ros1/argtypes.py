@@ -17,8 +17,12 @@ a value holding a marker ends up:
   **string** use.
 
 Values an ``<arg>`` or an ``<include>``'s ``<arg>`` passes on are not uses: they are followed.
-An eval's result carries no use of its own (its inputs were classified in the expression).  An
-``<include>`` whose file name holds a marked arg is followed with the arg's default.
+So is an arg an ``$(eval)`` returns as it is (``end_effector if end_effector else 'no-ee'``, ``a or
+b``, ``arg('x')``): the eval's result carries its marker, and where the result is used decides
+(its other reads were classified in the expression).  An ``<include>`` whose file name holds a
+marked arg is followed with the arg's default.  A default reading another candidate arg
+(``<arg name="arm" default="$(eval {'iron': False}.get(arg('robot'), True))"/>``) classifies that
+read like any other use, and passes the uses of the arg it defines on to the args it returns.
 """
 
 from __future__ import annotations
@@ -37,6 +41,7 @@ _ARG_RE = re.compile(ARG_MARK + "([^" + ARG_MARK + "]*)" + ARG_MARK)
 _EVAL_RE = re.compile(EVAL_MARK + "[^" + EVAL_MARK + "]*" + EVAL_MARK)
 
 BOOL, STRING = "bool", "string"
+FLOW = "flow"  # an eval read whose value is the eval's result (its use is the result's)
 
 
 def marker(name: str) -> str:
@@ -47,8 +52,9 @@ class ArgTyping:
     """The uses of the marked args seen during one typing walk."""
 
     def __init__(self, names: Iterable[str], defaults: Optional[dict[str, str]] = None,
-                 derived: Optional[dict[str, set[str]]] = None):
-        self.uses: dict[str, set[str]] = {n: set() for n in names}
+                 derived: Optional[dict[str, set[str]]] = None,
+                 direct: Optional[dict[str, set[str]]] = None):
+        self.uses: dict[str, set[str]] = {n: set(direct.get(n, ())) if direct else set() for n in names}
         self.defaults = dict(defaults or {})
         # derived[x]: the marked args the default of the marked arg x reads.  The walk gives x
         # its marker (the command line's value wins over the default), so the default is never
@@ -100,10 +106,12 @@ class ArgTyping:
         ok = []
         for c, v in cases:
             if ARG_MARK in v or EVAL_MARK in v:
-                rest = _EVAL_RE.sub("", _ARG_RE.sub("", v)).strip()
-                names = _ARG_RE.findall(v)
-                kind = BOOL if not rest and len(names) + len(_EVAL_RE.findall(v)) == 1 else STRING
-                for n in names:
+                outside = _EVAL_RE.sub("", v)
+                rest = _ARG_RE.sub("", outside).strip()
+                evals = _EVAL_RE.findall(v)
+                # one arg, or one eval (whose result is the args it returns as they are): boolean
+                kind = BOOL if not rest and len(_ARG_RE.findall(outside)) + len(evals) == 1 else STRING
+                for n in _ARG_RE.findall(v):
                     self._add(n, kind)
                 ok.append(c)
                 continue
@@ -123,6 +131,7 @@ class ArgTyping:
         except (S.SubstError, S.NotAnalysable):
             return None
         marked: dict[str, set[str]] = {}
+        flows: set[str] = set()
         for name, kind in _reads(tree):
             ms = set()
             for _, v in sc.args.get(name, []):
@@ -132,15 +141,54 @@ class ArgTyping:
             if ms:
                 marked.setdefault(name, set()).update(ms)
                 for m in ms:
-                    if m:
+                    if m and kind == FLOW:
+                        flows.add(m)  # returned as it is: the result's use is its use
+                    elif m:
                         self._add(m, kind)
         if not marked:
             return None
-        return [(guard, EVAL_MARK + ",".join(sorted(marked)) + EVAL_MARK)]
+        return [(guard, EVAL_MARK + ",".join(sorted(marked)) + "".join(marker(m) for m in sorted(flows)) + EVAL_MARK)]
+
+
+_WHOLE_ARG = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)")
+
+
+def default_reads(value: str, names: set[str]) -> tuple[set[str], dict[str, set[str]]]:
+    """How a top-level arg's default reads the candidate args ``names`` (the typing walk gives
+    the arg its marker, so the default itself is never walked): the args it returns as they are
+    (``$(arg y)``, ``$(eval y if c else z)``: the arg's own uses are theirs), and the uses it
+    makes of the others (``$(eval {'iron': False}.get(arg('robot'), True))``: robot is a string;
+    ``prefix_$(arg y)``: a string)."""
+    flows: set[str] = set()
+    uses: dict[str, set[str]] = {}
+    v = value.strip()
+    m = _WHOLE_ARG.fullmatch(v)
+    if m:
+        if m.group(1) in names:
+            flows.add(m.group(1))
+        return flows, uses
+    if S.is_eval(v):
+        try:
+            tree = S.parse_eval(v[7:-1])
+        except (S.SubstError, S.NotAnalysable):
+            return flows, uses
+        for name, kind in _reads(tree):
+            if name not in names:
+                continue
+            if kind == FLOW:
+                flows.add(name)
+            else:
+                uses.setdefault(name, set()).add(kind)
+        return flows, uses
+    for name in _WHOLE_ARG.findall(v):
+        if name in names:
+            uses.setdefault(name, set()).add(STRING)
+    return flows, uses
 
 
 def _reads(tree: ast.AST) -> list[tuple[str, str]]:
-    """(arg name, use kind) for every arg an eval expression reads (``x`` or ``arg('x')``)."""
+    """(arg name, use kind) for every arg an eval expression reads (``x`` or ``arg('x')``):
+    BOOL, STRING, or FLOW (the expression may return it as it is)."""
     parents: dict[int, ast.AST] = {}
     for n in ast.walk(tree):
         for c in ast.iter_child_nodes(n):
@@ -162,6 +210,10 @@ def _reads(tree: ast.AST) -> list[tuple[str, str]]:
 
 def _kind(n: ast.AST, parents: dict[int, ast.AST]) -> str:
     p = parents.get(id(n))
+    if p is None or isinstance(p, ast.Expression):
+        return FLOW  # the expression's value is the arg's
+    if (isinstance(p, ast.IfExp) and n is not p.test) or isinstance(p, ast.BoolOp):
+        return _kind(p, parents)  # a branch, an and/or operand: may be the value of p itself
     if isinstance(p, ast.Compare):
         operands = [p.left] + list(p.comparators)
         if any(o is not n and _stringy(o) for o in operands) or any(

@@ -11,6 +11,8 @@ from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
 from ...base.text import Span
 from ..model import Element, IncludeFact
 from ..xml import XElement
+from ..model import outside_message, outside_reach
+from .rules import INCLUDE_OUTSIDE
 from .rules import (INCLUDE_ARG_NO_VALUE, INCLUDE_CYCLE, INCLUDE_INVALID, INCLUDE_NOT_FOUND, INCLUDE_TOO_DEEP,
                     INVALID_VALUE, MAX_INCLUDE_DEPTH, MISSING_ATTRIBUTE, UNDEFINED_ARG, UNRESOLVED, UNSET_ARG,
                     UNUSED_INCLUDE_ARG, W, OPAQUE, _attr_bool, merge, shown)
@@ -122,6 +124,12 @@ class IncludeRules:
             self.fact(INCLUDE_TOO_DEEP, f"includes are nested more than {MAX_INCLUDE_DEPTH} deep; not followed",
                       el, self.aspan(el, "file"), c, severity=W)
             el.unresolved = True
+            return
+        if outside_reach(path, self.reach):  # one rule in every command (docs/architecture.md)
+            inc.outside = True
+            el.unresolved = True
+            self.fact(INCLUDE_OUTSIDE, outside_message(shown(fname), path), el, self.aspan(el, "file"), c,
+                      severity=W)
             return
         u = self.unit(path)
         if u is None:

@@ -21,22 +21,22 @@ from __future__ import annotations
 
 import itertools
 import os
-import re
 from dataclasses import dataclass
 from typing import Iterable, Mapping, Optional
 
-from ...base.formula import FALSE, TRUE, Formula, Var, disj, neg, variables
+from ...base.formula import FALSE, TRUE, Formula, Var, disj, forall_unknowns, neg, substitute, variables
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import LineIndex, Span
-from ...base.files import inside, is_regular, read_text_or_none
+from ...base.files import is_regular, model_workspace, read_text_or_none
 from . import subst as S
+from ..model import Reach
 from ..model import (ArgDecl, Attr, Element, ErrorFact, IncludeFact, LaunchAnalysis, LoadResult, NodeFact,
                     ParamFact, Subst)
-from ..packages import find_packages, guess_workspace_root
+from ..packages import guess_workspace_root, ros_packages
 from ..xml import XElement, XmlDoc, parse_xml, value_span
-from .rules import (_satisfiable, BUDGET, Cases, E, I, cmdline_arg, cmdline_settable, MAX_VISITS, MAX_WALK_DEPTH,
-                    NO_LAUNCH_ROOT, W)
-from .argtypes import ArgTyping, marker
+from .rules import (_bool_val, _satisfiable, BUDGET, Cases, E, I, cmdline_arg, cmdline_settable, MAX_VISITS,
+                    MAX_WALK_DEPTH, NO_LAUNCH_ROOT, POISON, UNRESOLVED, W)
+from .argtypes import ArgTyping, default_reads, marker
 from .includes import IncludeRules
 from .params import ParamRules
 from .scopes import Scope, ScopeRules
@@ -66,10 +66,15 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
         self.flow = 0         # > 0 while resolving values that pass args on (if/unless, <arg> values)
         self.read_file = read_file
         self.env = env
-        self.packages = dict(packages) if packages is not None else find_packages(workspace_root)
-        # the symbolic walk (--check, the editor) reads files inside the workspace and its
-        # packages only: a file elsewhere is never read, so never quoted in a diagnostic
-        self.confine = ([workspace_root] + list(self.packages.values())) if workspace_root and not concrete else None
+        if packages is None:  # what roslaunch's $(find) finds: the workspace and ROS_PACKAGE_PATH
+            packages = ros_packages(workspace_root, env)
+        self.packages = dict(packages)
+        self.ambiguous: dict[str, list[str]] = dict(getattr(packages, "ambiguous", None) or {})
+        # every walk (symbolic: --check, the editor, graph, the configurator; concrete: tvl-lsp
+        # launch) reads files inside the workspace and its packages only: a file elsewhere is
+        # never read, so never quoted in a diagnostic (model.outside_reach: the one rule)
+        self.confine = ([workspace_root] + list(self.packages.values())) if workspace_root else None
+        self.reach = Reach(self.confine) if self.confine is not None else None
         self.facts: list[ErrorFact] = []
         self.nodes: list[NodeFact] = []
         self.params: list[ParamFact] = []
@@ -84,6 +89,7 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
         self.budget_hit = False
         self.anon_counter = itertools.count(1)
         self.reported_not_analysable: set = set()
+        self.unknowns: dict[tuple[str, str], Formula] = {}  # unknown if/unless values (scopes.py)
         self.stack: list[str] = []
         self.machines: dict[str, list] = {}
         self.depth = 0
@@ -105,8 +111,8 @@ class Walker(ScopeRules, TagRules, ParamRules, IncludeRules):
 
     # ---------------------------------------------------------------- files
 
-    def read(self, path: str) -> Optional[str]:
-        if self.confine is not None and not inside(path, self.confine):
+    def read(self, path: str, confined: bool = True) -> Optional[str]:
+        if confined and self.reach is not None and self.reach.outside(path):
             return None
         if self.read_file is not None:
             try:
@@ -324,10 +330,6 @@ def _candidates(launch: Optional[XElement], with_defaults: bool, settable: bool 
     return list(dict.fromkeys(out))
 
 
-# the args a default reads: $(arg y), and arg('y') inside $(eval)
-_DEFAULT_READS = re.compile(r"\$\(arg\s+([^\s)]+)\s*\)|arg\(\s*['\"]([^'\"]+)['\"]\s*\)")
-
-
 def arg_uses(text: str, path: str, names: Iterable[str], workspace_root: Optional[str] = None, read_file=None, *,
              env: Optional[Mapping[str, str]] = None, packages: Optional[dict[str, str]] = None,
              doc: Optional[XmlDoc] = None) -> ArgTyping:
@@ -338,17 +340,20 @@ def arg_uses(text: str, path: str, names: Iterable[str], workspace_root: Optiona
     launch = doc.root if doc.root is not None and doc.root.tag == "launch" else None
     defaults = {x.attrs["name"].value: x.attrs["default"].value for x in _top_args(launch)
                 if "name" in x.attrs and "default" in x.attrs and "$" not in x.attrs["default"].value}
-    derived = {}
+    derived: dict[str, set[str]] = {}
+    direct: dict[str, set[str]] = {}
     for x in _top_args(launch):
         if "name" in x.attrs and "default" in x.attrs and x.attrs["name"].value in names:
-            reads = {a or b for a, b in _DEFAULT_READS.findall(x.attrs["default"].value)} & set(names)
-            if reads:
-                derived[x.attrs["name"].value] = reads
-    typing = ArgTyping(names, defaults, derived)
+            flows, uses = default_reads(x.attrs["default"].value, set(names))
+            if flows:
+                derived[x.attrs["name"].value] = flows
+            for y, kinds in uses.items():
+                direct.setdefault(y, set()).update(kinds)
+    typing = ArgTyping(names, defaults, derived, direct)
     if not names:
         return typing
     if workspace_root is None and packages is None and os.path.isabs(path):
-        workspace_root = guess_workspace_root(path)
+        workspace_root = guess_workspace_root(path) or model_workspace(path)
     w = Walker(concrete=False, workspace_root=workspace_root, read_file=read_file,
                env=os.environ if env is None else env, packages=packages, typing=typing)
     try:
@@ -377,7 +382,49 @@ def free_args(text: str, path: str, workspace_root: Optional[str] = None, read_f
     typing = arg_uses(text, path, _candidates(launch, with_defaults, settable=False), workspace_root, read_file,
                       env=env, packages=packages, doc=doc)
     strings = typing.strings()
-    return [n for n in names if n not in strings]
+    names = [n for n in names if n not in strings]
+    # an arg whose default is no boolean (default="", default="$(optenv UNSET_VAR)") is not free:
+    # roslaunch run with the file's defaults reads that value (an if="$(arg x)" then fails), so
+    # the check analyses it as it is, like `tvl-lsp launch` does
+    with_default = [n for n in names if n in _top_defaults(launch)]
+    if with_default:
+        if packages is None:
+            packages = ros_packages(workspace_root or (guess_workspace_root(path) if os.path.isabs(path) else None),
+                                    env)
+        values = _default_values(doc, path, with_default, os.environ if env is None else env, packages)
+        names = [n for n in names if n not in values or not values[n] or
+                 all(_bool_val(v) is not None for v in values[n])]
+    return names
+
+
+def _top_defaults(launch: Optional[XElement]) -> dict[str, str]:
+    """name -> default of the top-level args that have one (and no value)."""
+    return {x.attrs["name"].value: x.attrs["default"].value for x in _top_args(launch)
+            if "name" in x.attrs and "default" in x.attrs and "value" not in x.attrs}
+
+
+def _default_values(doc: XmlDoc, path: str, names: list[str], env: Mapping[str, str],
+                    packages: dict[str, str]) -> dict[str, list[str]]:
+    """The values roslaunch gives the top-level args ``names`` when the command line sets none:
+    the file's top-level ``<arg>`` tags walked concretely, in order (nothing else: no include,
+    no node).  An arg whose default fails to evaluate (it reads an unset arg) has no value."""
+    w = Walker(concrete=True, workspace_root=None, read_file=None, env=env, packages=packages)
+    u = w.unit(path, doc=doc)
+    if u is None or u.launch is None:
+        return {}
+    emap: dict[int, Element] = {}
+    w.make_elements(u.launch, path, None, 0, emap)
+    sc = Scope("/", path)
+    sc.cmdline = FALSE
+    w.stack = [os.path.abspath(path)]
+    try:
+        for x in u.launch.children:
+            if x.tag == "arg":
+                w.arg_tag(x, emap[id(x)], sc, TRUE)
+    except RecursionError:
+        return {}
+    return {n: [v for c, v in sc.args.get(n, []) if c == TRUE and POISON not in v and UNRESOLVED not in v]
+            for n in names}
 
 
 def analyse_launch(text: str, path: str, workspace_root: Optional[str] = None, read_file=None, *,
@@ -391,7 +438,7 @@ def analyse_launch(text: str, path: str, workspace_root: Optional[str] = None, r
     ``alone``: the file is checked without a model (default: when ``features`` is None).
     """
     if workspace_root is None and packages is None and os.path.isabs(path):
-        workspace_root = guess_workspace_root(path)
+        workspace_root = guess_workspace_root(path) or model_workspace(path)
     w = Walker(concrete=False, workspace_root=workspace_root, read_file=read_file,
                env=os.environ if env is None else env, packages=packages)
     # checked alone, the command line is how the file is meant to be run: an undeclared
@@ -453,8 +500,13 @@ def _merge_facts(facts: list[ErrorFact]) -> list[ErrorFact]:
             for r in f.related:
                 if r not in g.related:
                     g.related.append(r)
-    # drop facts that no assignment can trigger (checked by brute force when small)
-    return [f for f in out.values() if len(variables(f.condition)) > 10 or _satisfiable(f.condition) is not None]
+    # an error is reported only where it holds whatever the unknowns are (an if/unless value
+    # tvl-lsp cannot compute is never the cause of an error); then drop facts that no
+    # assignment can trigger (checked by brute force when small)
+    for f in out.values():
+        f.condition = forall_unknowns(f.condition)
+    return [f for f in out.values() if f.condition != FALSE and
+            (len(variables(f.condition)) > 10 or _satisfiable(f.condition) is not None)]
 
 
 
@@ -489,14 +541,11 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
     if packages is None:
         if workspace_root is None:
             workspace_root = guess_workspace_root(path)
-        packages = {}
-        # like rospack: ROS_PACKAGE_PATH entries, the workspace first
-        for d in reversed([x for x in env.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if x]):
-            packages.update(find_packages(d))
-        packages.update(find_packages(workspace_root))
-    w = Walker(concrete=True, workspace_root=workspace_root, read_file=read_file, env=env, packages=packages)
+        packages = ros_packages(workspace_root, env)  # the one resolver, as --check's
+    w = Walker(concrete=True, workspace_root=workspace_root or model_workspace(path), read_file=read_file, env=env,
+               packages=packages)
     if text is None:
-        text = w.read(path)
+        text = w.read(path, confined=False)  # (the file named on the command line, wherever it is)
         if text is None:
             return LoadResult([], {}, [], [], f"[Errno 2] No such file or directory: '{path}'", "file-not-found")
     # roslaunch takes the command line as ROS remappings: some name:=value pairs never reach it
@@ -517,19 +566,29 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
             break
     warnings = ignored + [d.message for d in w.diagnostics if d.severity != E]
     if error is None:
-        for f in w.facts:
-            if f.condition == TRUE and f.severity == E:
+        for f in w.facts:  # (an unknown condition never makes an error: forall_unknowns)
+            if f.severity == E and forall_unknowns(f.condition) == TRUE:
                 error, code = f.message, f.code
                 break
         warnings += [f.message for f in w.facts if f.condition == TRUE and f.severity != E]
+    # an if/unless tvl-lsp cannot compute: the elements are listed as if it were true (if= loads,
+    # unless= skips: never both), and the warning says so; an error never depends on it (above)
+    taken = {u.name: TRUE for u in w.unknowns.values()}
+
+    def loaded(c) -> bool:
+        return c == TRUE or (bool(taken) and substitute(c, taken) == TRUE)
+    for u in w.unknowns.values():
+        if any(u.name in variables(x.condition) for x in list(w.nodes) + list(w.params)):
+            warnings.append(f"tvl-lsp cannot evaluate the condition {u.name.split(':', 1)[-1]}: the elements it "
+                            "decides are listed as if it were true")
     nodes = [dict(name=n.name, pkg=n.pkg, type=n.type, namespace=n.namespace, args=n.args,
                   remaps=[list(r) for r in n.remaps], file=n.path, line=n.element.span.start.line + 1)
-             for n in w.nodes if n.condition == TRUE and not n.is_test]
+             for n in w.nodes if loaded(n.condition) and not n.is_test]
     params: dict = {}
     sources: dict[str, str] = {}
     text: dict[str, str] = {}
     for p in w.params:
-        if p.condition == TRUE:
+        if loaded(p.condition):
             params[p.name] = p.data
             text[p.name] = p.value
             if p.source in ("textfile", "binfile", "command"):
@@ -539,7 +598,8 @@ def load_launch(path: str, args: Mapping[str, str], workspace_root: Optional[str
 
     def inc_tree(incs: list[IncludeFact]) -> list[dict]:
         return [dict(file=i.file, followed=i.followed, namespace=i.namespace, package=i.package,
-                     includes=inc_tree(i.children)) for i in incs if i.condition == TRUE]
+                     includes=inc_tree(i.children), **({"outside": True} if i.outside else {}))
+                for i in incs if loaded(i.condition)]
 
     remaps = []
     for n in nodes:

@@ -8,14 +8,14 @@ import itertools
 import os
 from typing import Optional
 
-from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg, variables
+from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg, unknown, variables
 from ...base.text import Span
 from . import subst as S
 from ..model import Element
 from ..xml import XAttr, XElement, value_span
 from .rules import (_satisfiable, ARG_ALREADY_SET, ARG_VALUE_AND_DEFAULT, CONDITION_NOT_ANALYSABLE, Cases,
                     DUPLICATE_ARG, ENV_NOT_SET, EVAL_ERROR, IF_AND_UNLESS, INVALID_CONDITION, MAX_CASES,
-                    MISSING_ATTRIBUTE, PACKAGE_NOT_FOUND, POISON, SUBST_ARITY, SUBST_SYNTAX, SUBST_UNKNOWN,
+                    MISSING_ATTRIBUTE, PACKAGE_AMBIGUOUS, PACKAGE_NOT_FOUND, POISON, SUBST_ARITY, SUBST_SYNTAX, SUBST_UNKNOWN,
                     UNDEFINED_ARG, UNRESOLVED, UNSET_ARG, W, _bool_val, cmdline_settable, make_global_ns, merge,
                     ns_join, opaque)
 
@@ -208,6 +208,7 @@ class ScopeRules:
                     break
                 pkg = words[1]
                 path = self.packages.get(pkg)
+                self.note_ambiguous(pkg, el, span)
                 if path is None:
                     if self.concrete:
                         self.fact(PACKAGE_NOT_FOUND, f"ResourceNotFound: {pkg}", el, span, c)
@@ -356,15 +357,16 @@ class ScopeRules:
                 out.append((cond, opaque(value)))  # reads a value tvl-lsp does not know
                 continue
             try:
-                out.append((cond, S.run_eval(tree, env_args, self.env, self.eval_find,
+                out.append((cond, S.run_eval(tree, env_args, self.env, lambda p: self.eval_find(p, el, span),
                                              dirname=lambda: os.path.abspath(os.path.dirname(sc.filename)),
                                              anon=lambda ident: self.eval_anon(sc, ident))))
             except S.EvalArgMissing as m:
                 self.lookup_arg(m.name, el, sc, cond, span, where)
             except S.NotAnalysable:
+                # unknown in this case only: what the other cases compute (or fail on) is certain
                 self.note(CONDITION_NOT_ANALYSABLE, f"tvl-lsp cannot evaluate '$(eval {expr.strip()})'; it "
                           "assumes the value may be anything", el, span)
-                return [(guard, opaque(value))]
+                out.append((cond, opaque(value)))
             except S.SubstError as e:
                 self.fact(EVAL_ERROR, str(e), el, span, cond)
         return merge(out)
@@ -375,16 +377,29 @@ class ScopeRules:
             sc.anon[ident] = S.anon_name(ident, lambda: next(self.anon_counter))
         return sc.anon[ident]
 
-    def eval_find(self, pkg: str) -> str:
+    def eval_find(self, pkg: str, el: Optional[Element] = None, span: Optional[Span] = None):
         """``find('pkg')`` inside ``$(eval)``: the package's folder (roslaunch raises
         ResourceNotFound for a package it cannot find; outside the workspace, tvl-lsp cannot
-        tell: not analysable)."""
+        tell: an unknown value, the rest of the expression still evaluated)."""
         path = self.packages.get(pkg)
+        if el is not None and span is not None:
+            self.note_ambiguous(pkg, el, span)
         if path is None:
             if self.concrete:
                 raise S.SubstError(f"ResourceNotFound: {pkg}")
-            raise S.NotAnalysable()
+            return S.UNKNOWN
         return path
+
+    def note_ambiguous(self, pkg: str, el: Element, span: Span) -> None:
+        """A note where ``$(find pkg)`` names a package several folders hold (the one roslaunch
+        takes is what tvl-lsp takes, but an editor user may be looking at the other)."""
+        folders = self.ambiguous.get(pkg)
+        if not folders:
+            return
+        self.note(PACKAGE_AMBIGUOUS, f"$(find {pkg}) is {folders[0]}: {len(folders)} folders hold a package named "
+                  f"'{pkg}' (also {', '.join(folders[1:3])}{' ...' if len(folders) > 3 else ''}); roslaunch takes "
+                  "the first on ROS_PACKAGE_PATH (this workspace first when ROS_PACKAGE_PATH does not list it), "
+                  "and of two in one folder the first it crawls", el, span)
 
     # ---------------------------------------------------------------- conditions
 
@@ -411,7 +426,11 @@ class ScopeRules:
         ok = []
         for c, v in cases:
             if v.startswith("$(eval ") or UNRESOLVED in v:
-                ok.append(c)  # not analysable: assume loaded
+                # a value tvl-lsp cannot compute (or whose computation failed, reported there):
+                # an unknown, the same for every if/unless of that value, so that if= and unless=
+                # of it exclude each other; an error that depends on it is never reported
+                u = self.unknown_condition(el, x.attrs[key].value, v)
+                ok.append(conj([c, u if key == "if" else neg(u)]))
                 continue
             b = _bool_val(v)
             if b is None:
@@ -422,6 +441,15 @@ class ScopeRules:
             self.fact(INVALID_CONDITION, f"{v.lower().strip()} is not a 'bool' type: the value of '{key}' must be "
                       "true, false, 1 or 0", el, self.aspan(el, key), c)
         return disj(ok)
+
+    def unknown_condition(self, el: Element, raw: str, value: str) -> Formula:
+        """The unknown (:func:`~tvl_lsp.base.formula.unknown`) of an if/unless whose value
+        tvl-lsp cannot compute: one per (file, value), named after the attribute's text."""
+        k = (el.path, value)
+        u = self.unknowns.get(k)
+        if u is None:
+            u = self.unknowns[k] = unknown(f"{len(self.unknowns) + 1}:{raw.strip()[:60]}")
+        return u
 
     # ---------------------------------------------------------------- <arg>
 

@@ -97,11 +97,12 @@ _CONSTS = {"true": True, "false": False, "True": True, "False": False}
 _SAFE_FUNCS = {"str": str, "int": int, "float": float, "list": list, "dict": dict, "map": map}
 # roslaunch evaluates with eval(s, {}, ...): Python adds the real builtins to the empty globals,
 # so every builtin works there; these are the pure ones (results bounded, printed the same
-# every run -- not zip/filter/reversed/enumerate, whose str() is an object address, nor set,
-# whose order of strings changes from run to run)
+# every run -- not zip/filter/reversed/enumerate, whose str() is an object address; a set of
+# strings, whose order changes from run to run, is unknown where its order shows: evalguard.ordered)
 _BUILTINS = {"len": len, "abs": abs, "max": max, "min": min, "round": round, "bool": bool, "sorted": sorted,
              "sum": sum, "any": any, "all": all, "tuple": tuple, "repr": repr, "hex": hex, "oct": oct,
-             "bin": bin, "chr": chr, "ord": ord, "divmod": divmod, "format": format}
+             "bin": bin, "chr": chr, "ord": ord, "divmod": divmod, "format": format, "set": set,
+             "frozenset": frozenset, "isinstance": isinstance}
 _RESERVED = set(_CONSTS) | set(_MATH) | set(_SAFE_FUNCS) | set(_BUILTINS) | {
     "arg", "env", "optenv", "find", "anon", "dirname", "range"}
 MAX_BUILD = 100_000  # the largest string / sequence an $(eval) may build here
@@ -128,6 +129,7 @@ def eval_names(tree: ast.Expression) -> tuple[set[str], bool]:
     """Arg names the expression reads, and whether it only uses the supported subset."""
     names: set[str] = set()
     ok = True
+    parents = {id(c): n for n in ast.walk(tree) for c in ast.iter_child_nodes(n)}
     for n in ast.walk(tree):
         if isinstance(n, ast.Call):
             f = n.func
@@ -136,37 +138,48 @@ def eval_names(tree: ast.Expression) -> tuple[set[str], bool]:
                     names.add(n.args[0].value)
                 else:
                     ok = False
-            elif isinstance(f, ast.Attribute) and f.attr in STR_METHODS:
-                pass  # a string method ('x'.startswith(...)); checked when evaluated
+            elif isinstance(f, ast.Attribute):
+                pass  # a method of a value ('x'.split(...), {...}.get(...)): evaluate_call_method decides
             elif not (isinstance(f, ast.Name) and f.id in _RESERVED):
                 ok = False
         elif isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load):
             if n.id not in _RESERVED:
                 names.add(n.id)
-        elif isinstance(n, ast.Attribute) and n.attr in STR_METHODS:
+        elif isinstance(n, ast.Attribute) and isinstance(parents.get(id(n)), ast.Call) and parents[id(n)].func is n:
             pass
+        elif isinstance(n, ast.Starred) and isinstance(parents.get(id(n)), ast.Call):
+            pass  # f(*args): expanded when evaluated
         elif isinstance(n, (ast.Attribute, ast.Lambda, ast.ListComp, ast.DictComp,
                             ast.SetComp, ast.GeneratorExp, ast.NamedExpr, ast.Starred)):
             ok = False
     return names, ok
 
 
-# str methods an $(eval) may call (pure, and bounded in what they build)
-STR_METHODS = frozenset({"startswith", "endswith", "lower", "upper", "strip", "lstrip", "rstrip", "split",
-                         "rsplit", "find", "rfind", "count", "isdigit", "isalpha", "isalnum", "islower",
-                         "isupper", "capitalize", "title", "replace", "index", "rindex", "format", "join",
-                         "zfill", "center", "ljust", "rjust", "partition", "rpartition", "splitlines", "swapcase",
-                         "casefold", "isspace", "isnumeric", "isdecimal", "isidentifier", "istitle"})
-_WIDTH = re.compile(r"\d{6,}")  # a format width / precision that would build a huge string
+class _Unknown:
+    """A value tvl-lsp cannot know here (``find('pkg')`` of a package outside the workspace):
+    what is computed from it is unknown too, but the evaluation goes on, so that what is
+    certain -- an arg the expression reads that has no value -- is still found."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return "<unknown>"
+
+
+UNKNOWN = _Unknown()
+_Speculative = (NotAnalysable, SubstError, guard.TooBig, RecursionError, MemoryError, ArithmeticError, LookupError,
+                TypeError, ValueError, AttributeError)
 
 
 def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, str],
-             find: Callable[[str], str] | None = None, dirname: Callable[[], str] | None = None,
+             find: Callable[[str], object] | None = None, dirname: Callable[[], str] | None = None,
              anon: Callable[[str], str] | None = None) -> str:
     """Evaluate like roslaunch's ``_eval`` (result as ``str``). Raises EvalArgMissing,
     NotAnalysable, or SubstError (a runtime error roslaunch would raise).  ``find(pkg)``:
-    the package's folder (``find('pkg')`` in the expression; without it, not analysable);
-    ``dirname()``, ``anon(id)``: as ``$(dirname)`` and ``$(anon id)``."""
+    the package's folder (``find('pkg')`` in the expression; without it, not analysable), or
+    :data:`UNKNOWN` (then the value is unknown, but an arg read elsewhere in the expression
+    without a value is still reported); ``dirname()``, ``anon(id)``: as ``$(dirname)`` and
+    ``$(anon id)``."""
 
     def lookup(name: str):
         # roslaunch's order: its functions and math's names, then the args, then Python's builtins
@@ -185,9 +198,36 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
     def sized(v):
         if isinstance(v, (str, list, tuple, dict, set)) and len(v) > MAX_BUILD:
             raise NotAnalysable()
-        return guard.bounded(v)
+        return guard.canon(guard.bounded(v))
 
     steps = guard.Steps()
+
+    def maybe(n):
+        """``n`` evaluated where roslaunch may or may not evaluate it (after an unknown test):
+        an arg missing there is not certain, and nothing it computes is known."""
+        try:
+            ev(n)
+        except EvalArgMissing:
+            pass
+        except _Speculative:
+            pass
+        return UNKNOWN
+
+    def call_args(nodes) -> list:
+        """A call's positional arguments, ``*xs`` expanded (a list, tuple or string)."""
+        out = []
+        for x in nodes:
+            if isinstance(x, ast.Starred):
+                v = ev(x.value)
+                if v is UNKNOWN:
+                    out.append(UNKNOWN)
+                elif isinstance(v, (list, tuple, str)):
+                    out.extend(guard.bounded(v))
+                else:
+                    raise NotAnalysable()
+            else:
+                out.append(ev(x))
+        return out
 
     def ev(n):
         steps.tick()
@@ -198,21 +238,22 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
         if isinstance(n, ast.Name):
             return lookup(n.id)
         if isinstance(n, ast.BoolOp):
-            if isinstance(n.op, ast.And):
-                v = True
-                for x in n.values:
-                    v = ev(x)
-                    if not v:
-                        return v
-                return v
-            v = False
-            for x in n.values:
+            v = True if isinstance(n.op, ast.And) else False
+            for i, x in enumerate(n.values):
                 v = ev(x)
-                if v:
+                if v is UNKNOWN:
+                    for rest in n.values[i + 1:]:
+                        maybe(rest)
+                    return UNKNOWN
+                if isinstance(n.op, ast.And) and not v:
+                    return v
+                if isinstance(n.op, ast.Or) and v:
                     return v
             return v
         if isinstance(n, ast.UnaryOp):
             v = ev(n.operand)
+            if v is UNKNOWN:
+                return UNKNOWN
             if isinstance(n.op, ast.Not):
                 return not v
             if isinstance(n.op, ast.USub):
@@ -225,71 +266,101 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
             if op is None:
                 raise NotAnalysable()
             a, b = ev(n.left), ev(n.right)
+            if a is UNKNOWN or b is UNKNOWN:
+                return UNKNOWN
             if op is operator.pow and isinstance(b, (int, float)) and abs(b) > 1000:
                 raise NotAnalysable()
             if op is operator.mul and (isinstance(a, str) or isinstance(b, str)):
                 if (isinstance(a, int) and a > 10000) or (isinstance(b, int) and b > 10000):
                     raise NotAnalysable()
+            if op is operator.mod and isinstance(a, str):
+                guard.ordered(b)
             guard.check_binop(op, a, b)
             return sized(op(a, b))
         if isinstance(n, ast.Compare):
             left = ev(n.left)
-            for op, right in zip(n.ops, n.comparators):
+            for k, (op, right) in enumerate(zip(n.ops, n.comparators)):
                 r = ev(right)
+                if left is UNKNOWN or r is UNKNOWN:
+                    for rest in n.comparators[k + 1:]:
+                        maybe(rest)
+                    return UNKNOWN
                 if not _CMP[type(op)](left, r):
                     return False
                 left = r
             return True
         if isinstance(n, ast.Subscript):  # indexing and slicing ('fanuc_' + arg('ik')[0:3])
             v = ev(n.value)
-            if not isinstance(v, (str, list, tuple, dict)):
-                raise SubstError(f"$(eval) failed: TypeError: '{type(v).__name__}' object is not subscriptable")
             sl = n.slice
             if isinstance(sl, ast.Slice):
                 parts = [ev(x) if x is not None else None for x in (sl.lower, sl.upper, sl.step)]
+                if v is UNKNOWN or UNKNOWN in parts:
+                    return UNKNOWN
+                if not isinstance(v, (str, list, tuple, dict)):
+                    raise SubstError(f"$(eval) failed: TypeError: '{type(v).__name__}' object is not subscriptable")
                 if any(p is not None and not isinstance(p, int) for p in parts) or parts[2] == 0:
                     raise NotAnalysable()
                 return v[slice(*parts)]
-            return v[ev(sl)]
+            if v is not UNKNOWN and not isinstance(v, (str, list, tuple, dict)):
+                raise SubstError(f"$(eval) failed: TypeError: '{type(v).__name__}' object is not subscriptable")
+            k = ev(sl)
+            if v is UNKNOWN or k is UNKNOWN:
+                return UNKNOWN
+            return v[k]
         if isinstance(n, ast.IfExp):
-            return ev(n.body) if ev(n.test) else ev(n.orelse)
-        if isinstance(n, (ast.Tuple, ast.List)):
+            t = ev(n.test)
+            if t is UNKNOWN:
+                # roslaunch takes one branch: an arg missing in both is certain, else unknown
+                missing = []
+                for branch in (n.body, n.orelse):
+                    try:
+                        ev(branch)
+                    except EvalArgMissing as m:
+                        missing.append(m)
+                    except _Speculative:
+                        pass
+                if len(missing) == 2:
+                    raise missing[0]
+                return UNKNOWN
+            return ev(n.body) if t else ev(n.orelse)
+        if isinstance(n, (ast.Tuple, ast.List, ast.Set)):
             if any(isinstance(x, ast.Starred) for x in n.elts):
                 raise NotAnalysable()
             vals = [ev(x) for x in n.elts]
-            return tuple(vals) if isinstance(n, ast.Tuple) else vals
+            if UNKNOWN in vals:
+                return UNKNOWN
+            return tuple(vals) if isinstance(n, ast.Tuple) else sized(set(vals)) if isinstance(n, ast.Set) else vals
         if isinstance(n, ast.Dict):
             if any(k is None for k in n.keys):
                 raise NotAnalysable()
-            return {ev(k): ev(v) for k, v in zip(n.keys, n.values)}
+            items = [(ev(k), ev(v)) for k, v in zip(n.keys, n.values)]
+            if any(k is UNKNOWN or v is UNKNOWN for k, v in items):
+                return UNKNOWN
+            return dict(items)
         if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute):
             obj = ev(n.func.value)
             attr = n.func.attr
-            if not hasattr(obj, attr) and not isinstance(obj, str):
+            if any(k.arg is None for k in n.keywords):
+                raise NotAnalysable()
+            if obj is not UNKNOWN and not hasattr(obj, attr):
                 raise SubstError(f"$(eval) failed: AttributeError: '{type(obj).__name__}' object has no "
                                  f"attribute '{attr}'")
-            if not isinstance(obj, str) or attr not in STR_METHODS:
-                raise NotAnalysable()
-            if any(isinstance(x, ast.Starred) for x in n.args) or any(k.arg is None for k in n.keywords):
-                raise NotAnalysable()
-            vals = [ev(x) for x in n.args]
+            vals = call_args(n.args)
             kws = {k.arg: ev(k.value) for k in n.keywords}
-            if attr == "replace" and len(vals) >= 2 and isinstance(vals[1], str) and \
-                    len(obj) * max(len(vals[1]), 1) > MAX_BUILD:
-                raise NotAnalysable()
-            if attr in ("zfill", "center", "ljust", "rjust") and vals and isinstance(vals[0], int) and \
-                    vals[0] > MAX_BUILD:
-                raise NotAnalysable()
-            if attr == "format" and _WIDTH.search(obj):
-                raise NotAnalysable()
-            return sized(getattr(obj, attr)(*vals, **kws))
+            if obj is UNKNOWN or UNKNOWN in vals or UNKNOWN in kws.values():
+                return UNKNOWN
+            try:
+                return sized(guard.call_method(obj, attr, vals, kws))
+            except guard.NotAllowed:
+                raise NotAnalysable() from None
         if isinstance(n, ast.Call):
-            if not isinstance(n.func, ast.Name) or any(isinstance(x, ast.Starred) for x in n.args) or \
-                    any(k.arg is None for k in n.keywords):
+            if not isinstance(n.func, ast.Name) or any(k.arg is None for k in n.keywords):
                 raise NotAnalysable()
             fname = n.func.id
-            vals = [ev(x) for x in n.args]
+            vals = call_args(n.args)
             kws = {k.arg: ev(k.value) for k in n.keywords}
+            if UNKNOWN in vals or UNKNOWN in kws.values():
+                return UNKNOWN
             if fname == "dirname" and not vals and not kws and dirname is not None:
                 return dirname()
             if fname == "anon" and len(vals) == 1 and not kws and anon is not None and isinstance(vals[0], str):
@@ -330,7 +401,10 @@ def run_eval(tree: ast.Expression, args: Mapping[str, str], env: Mapping[str, st
         raise NotAnalysable()
 
     try:
-        return str(ev(tree))
+        v = ev(tree)
+        if v is UNKNOWN:
+            raise NotAnalysable()
+        return str(guard.ordered(v))
     except (EvalArgMissing, NotAnalysable, SubstError):
         raise
     except (RecursionError, MemoryError, guard.TooBig):

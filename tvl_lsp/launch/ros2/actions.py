@@ -18,6 +18,7 @@ from typing import Any, Optional, Union
 
 from ...base.text import Span
 from . import subst as S
+from . import coerce as C
 from .frontend import LIST, Entity, FrontendError, RAttr
 
 Parts = list  # list[S.Part]
@@ -184,6 +185,7 @@ class ParamA:
     value: Any = None            # Value, a typed scalar/list, or a list of Values
     type: Optional[str] = None
     nested: Optional[list["ParamA"]] = None
+    dtype: Any = None            # the data type of ``type`` (coerce.TYPE_IDS): what launch types it as
 
 
 @dataclass
@@ -207,6 +209,7 @@ class ComposableA:
 
 @dataclass
 class ExecA(Action):
+    respawn: Optional[Value] = None
     cmd: list[list[S.Part]] = field(default_factory=list)
     cmd_value: Optional[Value] = None
     name: Optional[Value] = None
@@ -216,6 +219,7 @@ class ExecA(Action):
 
 @dataclass
 class NodeA(Action):
+    respawn: Optional[Value] = None
     package: Optional[Value] = None
     executable: Value = None
     name: Optional[Value] = None
@@ -484,11 +488,14 @@ class Parser:
                             f"`{on_exit}`Other on_exit actions not yet supported", e.aspan("on_exit"), self.path)
         self.opt_subst(e, "launch-prefix")
         self.opt_subst(e, "output")
-        self.opt_subst(e, "respawn")
+        a.respawn = self.opt_subst(e, "respawn")   # typed as a bool when the process starts (nodes.py)
         e.get_attr("respawn_max_retries", data_type=int, optional=True)
         for k in ("respawn_delay", "sigkill_timeout", "sigterm_timeout"):
             v = e.get_attr(k, data_type=float, optional=True)
-            if v is not None and not isinstance(v, str) and v < 0.0:
+            if isinstance(v, str):  # not a number (a substitution too): launch compares it with 0.0
+                raise LoadError("TypeError", "'<' not supported between instances of 'str' and 'float'",
+                                e.aspan(k), self.path)
+            if v is not None and v < 0.0:
                 raise LoadError("ValueError", f"Attribute {k} of Entity node expected to be a non-negative value "
                                 f"but got `{v}`", e.aspan(k), self.path)
         e.get_attr("shell", data_type=bool, optional=True)
@@ -582,17 +589,43 @@ class Parser:
                 raise LoadError("RuntimeError", "nested parameters and type attributes are mutually exclusive",
                                 p.tag_span, self.path)
             if value is not None:
+                # parse_if_substitutions, then ParameterValue(value, value_type): a list mixes no
+                # plain strings with other scalars; a value without substitutions must be of the
+                # type given (what has substitutions is typed when the node runs: nodes.py)
                 if isinstance(value, str):
                     value = self.subst(p, "value", value)
                 elif isinstance(value, list):
                     value = [self.subst(p, "value", x) if isinstance(x, str) else x for x in value]
-                out.append(ParamA(name, p, value, type_id if isinstance(type_id, str) else None))
+                    self.param_typed(p, lambda: C.uniform(value, _item_kind), "ValueError")
+                self.param_typed(p, lambda: self._normalize(value, data_type), "TypeError")
+                out.append(ParamA(name, p, value, type_id if isinstance(type_id, str) else None, dtype=data_type))
             elif nested:
                 out.append(ParamA(name, p, None, None, self.nested_params(nested)))
             else:
                 raise LoadError("RuntimeError", "either a value attribute or nested params are needed", p.tag_span,
                                 self.path)
         return out
+
+    def param_typed(self, p: Entity, check, kind: str) -> None:
+        """Run a check of launch's typing of a ``<param>`` value; its error refuses the file."""
+        try:
+            check()
+        except (ValueError, TypeError) as ex:
+            raise LoadError(kind, str(ex), p.aspan("value"), self.path) from None
+
+    @staticmethod
+    def _normalize(value, data_type) -> None:
+        """``normalize_typed_substitution`` of a parsed ``<param value>``."""
+        if isinstance(value, Value):
+            if S.is_text(value.parts):
+                C.normalize_scalar(S.plain(value.parts), data_type)
+            return
+        if isinstance(value, list):
+            if data_type is not None and not isinstance(data_type, C.ListOf):
+                raise TypeError("The provided value resolves to a list, though the required type is a scalar. "
+                                f"Got value='{value}', data_type='{C.type_text(data_type)}'.")
+            return
+        C.normalize_scalar(value, data_type)
 
     def composable(self, e: Entity) -> ComposableA:
         c = ComposableA(e)
@@ -674,6 +707,9 @@ class Parser:
         period = e.get_attr("period", data_type=float)
         if isinstance(period, str):
             period = self.subst(e, "period", period)
+            if S.is_text(period.parts):  # TimerAction(period='abc'): float('abc') in its constructor
+                raise LoadError("ValueError", f"could not convert string to float: {S.plain(period.parts)!r}",
+                                e.aspan("period"), self.path)
         t = TimerA(tag, e, cond, period)
         t.actions = self.actions(e.children())
         if tag == "timer":
@@ -700,14 +736,19 @@ class Parser:
         return SimpleA("set_ros_log_dir", e, cond, [self.req_subst(e, "new_log_dir")])
 
 
+def _item_kind(x):
+    """The type parse_if_substitutions records for a list item (None: it has substitutions)."""
+    if isinstance(x, Value):
+        return str if S.is_text(x.parts) else None
+    return type(x)
+
+
 def _data_type(type_id, p: Entity, path: str):
-    """launch_ros' get_data_type_from_identifier."""
-    table = {"str": str, "int": int, "float": float, "bool": bool, "list_of_str": "list_of_str",
-             "list_of_int": "list_of_int", "list_of_float": "list_of_float", "list_of_bool": "list_of_bool"}
-    if not isinstance(type_id, str) or type_id not in table:
-        raise LoadError("ValueError", f"Unrecognized data type '{type_id}'", p.aspan("type"), path)
-    t = table[type_id]
-    return str if isinstance(t, str) else t
+    """launch's get_data_type_from_identifier (``yaml``: no type, YAML rules)."""
+    try:
+        return C.data_type_of(type_id)
+    except ValueError as ex:
+        raise LoadError("ValueError", str(ex), p.aspan("type"), path) from None
 
 
 def parse_description(root: Entity, path: str) -> tuple[list[Action], list[LoadError]]:

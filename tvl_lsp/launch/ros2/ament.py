@@ -230,12 +230,11 @@ def _installed_extensions(prefixes: str) -> dict[str, tuple[str, str]]:
                 except OSError:
                     continue
                 for meta in metas:
-                    try:
-                        with open(os.path.join(site, meta, "entry_points.txt"), encoding="utf-8",
-                                  errors="replace") as f:
-                            mods = _entry_modules(f.read(100_000))
-                    except OSError:
+                    # (the head of a regular file only: never a FIFO or a device)
+                    head = read_head_text(os.path.join(site, meta, "entry_points.txt"), 100_000)
+                    if head is None:
                         continue
+                    mods = _entry_modules(head)
                     dist = meta.split("-", 1)[0]
                     for mod in mods:
                         for name, kind in _exposed(os.path.join(site, *mod.split("."))).items():

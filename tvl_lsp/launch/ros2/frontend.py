@@ -16,6 +16,7 @@ from typing import Any, Optional
 
 import yaml
 from ...base import yamlsafe
+from . import coerce as C
 
 from ...base.diagnostics import Diagnostic, Severity
 from ...base.text import LineIndex, Span
@@ -70,61 +71,27 @@ def _yaml_scalar(text: str):
         raise ValueError(text)
 
 
-_SCALARS = (int, float, bool, str)
-
-
 def valid_value(value, can_be_str: bool) -> bool:
     """launch's is_instance_of_valid_type."""
+    return C.valid_value(value, can_be_str)
+
+
+def coerce(value, data_type, can_be_str: bool = True):
+    """launch's get_typed_value (coerce_to_type; a list, from an attribute with a ``-sep``,
+    item by item) for the data types frontends ask for: ValueError where launch raises one."""
     if isinstance(value, list):
-        if not value:
-            return True
-        member = next((type(x) for x in value if type(x) is not str), str)
-        if member not in _SCALARS:
-            return False
-        ok = (member, str) if can_be_str else member
-        return all(isinstance(x, ok) for x in value)
-    return isinstance(value, _SCALARS)
-
-
-def coerce(value: str, data_type, can_be_str: bool = True):
-    """launch's coerce_to_type for the types frontends ask for (str, bool, int, float, None)."""
-    def as_yaml(v):
-        if not v:
-            return v
-        try:
-            out = yamlsafe.safe_load(v)
-        except Exception:
-            if can_be_str:
-                return v
-            raise ValueError(f"Failed to convert '{v}' using yaml rules")
-        if not valid_value(out, can_be_str):
-            raise ValueError(f"output type is not allowed, got {type(out)}")
+        if data_type is not None and not isinstance(data_type, C.ListOf):
+            raise ValueError(f"Cannot convert input '{value}' of type '{type(value)}' to '{_type_name(data_type)}'")
+        item = data_type.item if isinstance(data_type, C.ListOf) else None
+        out = [C.coerce(x, item, can_be_str=can_be_str) for x in value]
+        if not C.valid_value(out, can_be_str):
+            raise ValueError(f"cannot convert value to {item}. Got value=`{value}`")
         return out
-    if data_type is None:
-        return as_yaml(value)
-    if data_type is str:
-        return value
-    if data_type in (int, float):
-        try:
-            return data_type(value)
-        except ValueError:
-            if can_be_str:
-                return value
-            raise
-    if data_type is bool:
-        v = "true" if value == "1" else "false" if value == "0" else value
-        out = as_yaml(v)
-        if isinstance(out, bool) or (can_be_str and isinstance(out, str)):
-            return out
-        if can_be_str:
-            return v
-        raise ValueError(f"Cannot convert value '{value}' to '{bool}'")
-    raise ValueError(f"unsupported data type {data_type}")
+    return C.coerce(value, data_type, can_be_str=can_be_str)
 
 
 def _type_name(t) -> str:
-    return {str: "<class 'str'>", bool: "<class 'bool'>", int: "<class 'int'>",
-            float: "<class 'float'>", None: "None"}.get(t, str(t))
+    return C.type_text(t)
 
 
 # ------------------------------------------------------------------ entities
@@ -180,10 +147,12 @@ class Entity:
             raise FrontendError("AttributeError", f"Attribute '{name}' of type '{_type_name(data_type)}' not found "
                                 f"in Entity '{self.tag}'", self.tag_span)
         self._read.add(name)
-        if name + "-sep" in self.attrs:
+        value = a.value
+        if name + "-sep" in self.attrs:  # launch_xml splits the value into a list
             self._read.add(name + "-sep")
+            value = a.value.split(self.attrs[name + "-sep"].value) if self.attrs[name + "-sep"].value else [a.value]
         try:
-            return coerce(a.value, data_type, can_be_str)
+            return coerce(value, data_type, can_be_str)
         except ValueError:
             raise FrontendError("TypeError", f"Attribute '{name}' of Entity '{self.tag}' expected to be of type "
                                 f"'{_type_name(data_type)}'.'{a.value}' can not be converted to one of those types",
@@ -204,8 +173,7 @@ class Entity:
                 return self._ylists.get(name, [])
             raise FrontendError("TypeError", f"Attribute '{name}' of Entity '{self.tag}' expected to be a list of "
                                 "dictionaries.", where)
-        ok = valid_value(data, can_be_str) if data_type is None else \
-            isinstance(data, (str, data_type) if can_be_str else data_type)
+        ok = C.is_instance_of(data, data_type, can_be_str)
         if data_type is float and isinstance(data, bool):
             ok = can_be_str and False
         if not ok:
@@ -472,6 +440,8 @@ def parse_launch_file(text: str, path: str) -> Document:
 # ------------------------------------------------------------------ the shared element model
 
 def substitutions_of(e: Entity) -> list[Subst]:
+    if e.kind == "py":
+        return list(getattr(e, "substs", []))  # the Python front end lists them itself
     out: list[Subst] = []
     for k, a in e.attrs.items():
         if not isinstance(a.value, str) or "$(" not in a.value:

@@ -6,7 +6,7 @@ functions are available, and a name that is neither (``true`` from ``$(var flag)
 ``NameError: name 'true' is not defined``.  This module parses the text with Python's own
 parser (so syntax errors read exactly as launch's) and interprets a safe subset: literals,
 names, arithmetic, comparisons, ``and``/``or``/``not``, conditional expressions, subscripts,
-a few builtins and string methods.  Anything else raises :class:`NotAnalysable` (the caller
+the pure builtins and the pure methods of built-in values (:func:`evalguard.call_method`).  Anything else raises :class:`NotAnalysable` (the caller
 then treats the value as unknown) -- nothing is ever executed.
 """
 
@@ -44,8 +44,6 @@ _BUILTINS = {"int": int, "float": float, "str": str, "bool": bool, "len": len, "
              "repr": repr, "chr": chr, "ord": ord, "divmod": divmod, "pow": pow, "hex": hex, "oct": oct,
              "bin": bin, "format": format, "True": True, "False": False, "None": None}
 _ALL_BUILTINS = set(dir(builtins))
-_STR_METHODS = {"lower", "upper", "strip", "lstrip", "rstrip", "startswith", "endswith", "split", "replace",
-                "join", "format", "find", "count", "isdigit", "title", "capitalize"}
 _BIN = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
         ast.FloorDiv: operator.floordiv, ast.Mod: operator.mod, ast.Pow: operator.pow}
 _CMP = {ast.Eq: operator.eq, ast.NotEq: operator.ne, ast.Lt: operator.lt, ast.LtE: operator.le,
@@ -73,7 +71,7 @@ def evaluate(text: str, modules: tuple[str, ...] = ("math",)) -> str:
     elif modules:
         raise NotAnalysable()
     try:
-        return str(_Eval(names).ev(tree))
+        return str(guard.ordered(_Eval(names).ev(tree)))
     except (EvalFailure, NotAnalysable):
         raise
     except (RecursionError, MemoryError, guard.TooBig):
@@ -151,7 +149,8 @@ class _Eval:
             if any(isinstance(x, ast.Starred) for x in n.elts):
                 raise NotAnalysable()
             vals = [self.ev(x) for x in n.elts]
-            return tuple(vals) if isinstance(n, ast.Tuple) else set(vals) if isinstance(n, ast.Set) else vals
+            return tuple(vals) if isinstance(n, ast.Tuple) else guard.canon(set(vals)) if isinstance(n, ast.Set) \
+                else vals
         if isinstance(n, ast.Dict):
             if any(k is None for k in n.keys):
                 raise NotAnalysable()
@@ -171,37 +170,36 @@ class _Eval:
                 return getattr(math, n.attr)
             raise NotAnalysable()
         if isinstance(n, ast.Call):
-            if n.keywords:
+            if any(isinstance(a, ast.Starred) for a in n.args) or any(k.arg is None for k in n.keywords):
                 raise NotAnalysable()
             if isinstance(n.func, ast.Attribute):
                 obj = self.ev(n.func.value)
-                if isinstance(obj, str) and n.func.attr in _STR_METHODS:
-                    args = [self.ev(a) for a in n.args]
-                    if n.func.attr == "replace" and len(args) >= 2 and isinstance(args[1], str) and \
-                            len(obj) * max(len(args[1]), 1) > guard.MAX_LEN:
-                        raise NotAnalysable()
-                    if n.func.attr == "format" and _WIDTH.search(obj):
-                        raise NotAnalysable()
-                    guard.check_call(None, args)
-                    return guard.bounded(getattr(obj, n.func.attr)(*args))
                 if obj is math and hasattr(math, n.func.attr) and not n.func.attr.startswith("_"):
                     f = getattr(math, n.func.attr)
                     args = [self.ev(a) for a in n.args]
+                    if n.keywords:
+                        raise NotAnalysable()
                     guard.check_call(f, args)
                     return guard.bounded(f(*args))
-                raise NotAnalysable()
+                args = [self.ev(a) for a in n.args]
+                kws = {k.arg: self.ev(k.value) for k in n.keywords}
+                try:
+                    return guard.call_method(obj, n.func.attr, args, kws)
+                except guard.NotAllowed:
+                    raise NotAnalysable() from None
             f = self.ev(n.func)
             if not callable(f) or (f not in _BUILTINS.values() and f not in _MATH.values()):
                 raise NotAnalysable()
-            if any(isinstance(a, ast.Starred) for a in n.args):
-                raise NotAnalysable()
             args = [self.ev(a) for a in n.args]
+            kws = {k.arg: self.ev(k.value) for k in n.keywords}
+            if kws and f not in (dict, sorted, int, round, max, min, sum, format):
+                raise NotAnalysable()
             if f is range and any(isinstance(a, int) and abs(a) > 100_000 for a in args):
                 raise NotAnalysable()
             if f in (math.factorial, math.comb, math.perm) and any(isinstance(a, int) and a > 1000 for a in args):
                 raise NotAnalysable()
             if f is format and len(args) > 1 and isinstance(args[1], str) and _WIDTH.search(args[1]):
                 raise NotAnalysable()
-            guard.check_call(f, args)
-            return guard.bounded(f(*args))
+            guard.check_call(f, args + list(kws.values()))
+            return guard.canon(guard.bounded(f(*args, **kws)))
         raise NotAnalysable()

@@ -13,7 +13,7 @@ from typing import Mapping, Optional
 import yaml
 from ...base import yamlsafe
 
-from ...base.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, disj
+from ...base.formula import FALSE, TRUE, And, Const, Formula, Not, Or, Var, disj, forall_unknowns
 from ...base.diagnostics import Severity, register
 from ...base.text import Span
 from ..model import Element, ErrorFact, NodeFact
@@ -28,40 +28,43 @@ def _reg(code: str, sev: Severity, summary: str) -> str:
 
 
 # codes shared with ROS 1 (registered by tvl_lsp.launch.loader too; registration is idempotent)
-UNDEFINED_ARG = _reg("undefined-arg", E, "$(arg X) where X is not declared in scope")
-UNSET_ARG = _reg("unset-arg", W, "$(arg X) where X is declared without a value and nothing sets it")
-INVALID_CONDITION = _reg("invalid-condition", E, "if/unless does not evaluate to true/false/1/0")
-IF_AND_UNLESS = _reg("if-and-unless", E, "Both 'if' and 'unless' on the same tag")
-DUPLICATE_NODE = _reg("duplicate-node", E, "Two nodes with the same resolved name are loaded")
-MISSING_ATTRIBUTE = _reg("missing-attribute", E, "A required attribute is missing")
-UNKNOWN_ATTRIBUTE = _reg("unknown-attribute", W, "roslaunch does not know this attribute (it warns)")
-UNKNOWN_TAG = _reg("unknown-tag", W, "roslaunch does not know this tag (it warns and ignores it)")
-INVALID_VALUE = _reg("invalid-attribute-value", E, "An attribute value roslaunch rejects")
-SUBST_SYNTAX = _reg("substitution-syntax", E, "Malformed $(...) substitution")
-SUBST_UNKNOWN = _reg("unknown-substitution", E, "Unknown $(...) substitution command")
-SUBST_ARITY = _reg("substitution-arity", E, "Wrong number of arguments to a $(...) substitution")
-EVAL_ERROR = _reg("eval-error", E, "A $(eval ...) expression fails")
-ENV_NOT_SET = _reg("env-not-set", E, "$(env X) where X is not set in tvl-lsp's environment")
-PACKAGE_NOT_FOUND = _reg("package-not-found", E, "$(find pkg) of a package roslaunch cannot find")
-CONDITION_NOT_ANALYSABLE = _reg("condition-not-analysable", I, "A condition tvl-lsp cannot translate to a formula")
-INCLUDE_NOT_FOUND = _reg("include-not-found", E, "An included file does not exist")
-INCLUDE_INVALID = _reg("include-invalid", E, "An included file is not a valid launch file")
-INCLUDE_CYCLE = _reg("include-cycle", E, "Files include each other in a cycle")
-INCLUDE_TOO_DEEP = _reg("include-too-deep", W, "Includes nested too deeply to follow")
-NO_LAUNCH_ROOT = _reg("no-launch-root", E, "The file has no single <launch> element")
-EXTENSION_TAG = _reg("extension-tag", I, "A tag a launch extension adds (tvl-lsp does not model what it does)")
-FILE_NOT_FOUND = _reg("file-not-found", E, "A file a tag loads does not exist")
-BUDGET = _reg("launch-analysis-budget", W, "The launch file is too large to analyse completely")
+UNDEFINED_ARG = _reg("undefined-arg", E, "A $(arg X) where X is not declared in scope.")
+UNSET_ARG = _reg("unset-arg", W, "A $(arg X) where X is declared without a value and nothing sets it.")
+INVALID_CONDITION = _reg("invalid-condition", E, "An if/unless condition does not evaluate to true/false/1/0.")
+IF_AND_UNLESS = _reg("if-and-unless", E, "Both 'if' and 'unless' on the same tag.")
+DUPLICATE_NODE = _reg("duplicate-node", E, "Two nodes with the same resolved name are loaded.")
+MISSING_ATTRIBUTE = _reg("missing-attribute", E, "A required attribute is missing.")
+UNKNOWN_ATTRIBUTE = _reg("unknown-attribute", W, "An attribute roslaunch does not know (it warns).")
+UNKNOWN_TAG = _reg("unknown-tag", W, "A tag roslaunch does not know (it warns and ignores it).")
+INVALID_VALUE = _reg("invalid-attribute-value", E, "An attribute value roslaunch rejects.")
+SUBST_SYNTAX = _reg("substitution-syntax", E, "A malformed $(...) substitution.")
+SUBST_UNKNOWN = _reg("unknown-substitution", E, "An unknown $(...) substitution command.")
+SUBST_ARITY = _reg("substitution-arity", E, "Wrong number of arguments to a $(...) substitution.")
+EVAL_ERROR = _reg("eval-error", E, "A $(eval ...) expression fails.")
+ENV_NOT_SET = _reg("env-not-set", E, "A $(env X) where X is not set in tvl-lsp's environment.")
+PACKAGE_NOT_FOUND = _reg("package-not-found", E, "A $(find pkg) of a package roslaunch cannot find.")
+CONDITION_NOT_ANALYSABLE = _reg("condition-not-analysable", I, "A condition tvl-lsp cannot translate to a formula.")
+INCLUDE_NOT_FOUND = _reg("include-not-found", E, "An included file does not exist.")
+INCLUDE_OUTSIDE = _reg("include-outside-workspace", W, "An included file outside the workspace: it is not read.")
+INCLUDE_INVALID = _reg("include-invalid", E, "An included file is not a valid launch file.")
+INCLUDE_CYCLE = _reg("include-cycle", E, "Files include each other in a cycle.")
+INCLUDE_TOO_DEEP = _reg("include-too-deep", W, "Includes nested too deeply to follow.")
+NO_LAUNCH_ROOT = _reg("no-launch-root", E, "The file has no single <launch> element.")
+EXTENSION_TAG = _reg("extension-tag", I, "A tag a launch extension adds (tvl-lsp does not model what it does).")
+FILE_NOT_FOUND = _reg("file-not-found", E, "A file a tag loads does not exist.")
+PARAM_INVALID = _reg("invalid-param", E, "A <param> or <rosparam> roslaunch cannot load.")
+BUDGET = _reg("launch-analysis-budget", W, "The launch file is too large to analyse completely.")
 # ROS 2 only
-INVALID_CHOICE = _reg("invalid-choice", E, "An <arg> value that is not one of its <choice> values (ROS 2)")
-INVALID_NODE_NAME = _reg("invalid-node-name", E, "A node name ros2 launch rejects (ROS 2)")
-INVALID_NAMESPACE = _reg("invalid-namespace", E, "A namespace ros2 launch rejects (ROS 2)")
-SUBST_FAILED = _reg("substitution-failed", E, "A $(...) substitution fails when launched (ROS 2)")
-PYTHON_INCLUDE = _reg("python-launch-include", I, "An <include> of a Python launch file, which tvl-lsp does not "
-                      "execute (ROS 2)")
-ARG_LEAK = _reg("include-arg-leak", W, "An arg set by an <include> leaks out and changes a later element (ROS 2)")
-PARAM_FILE_NOT_FOUND = _reg("param-file-not-found", W, "<param from=...> names a file that does not exist (ROS 2)")
-LAUNCH_PARSE = _reg("invalid-launch-file", E, "ros2 launch refuses to load the file (ROS 2)")
+INVALID_CHOICE = _reg("invalid-choice", E, "An <arg> value that is not one of its <choice> values (ROS 2).")
+INVALID_NODE_NAME = _reg("invalid-node-name", E, "A node name ros2 launch rejects (ROS 2).")
+INVALID_NAMESPACE = _reg("invalid-namespace", E, "A namespace ros2 launch rejects (ROS 2).")
+SUBST_FAILED = _reg("substitution-failed", E, "A $(...) substitution fails when launched (ROS 2).")
+PYTHON_INCLUDE = _reg("python-launch-include", I, "An include of a Python launch file tvl-lsp cannot analyse (ROS 2).")
+ARG_LEAK = _reg("include-arg-leak", W, "An arg set by an <include> leaks out and changes a later element (ROS 2).")
+PARAM_FILE_NOT_FOUND = _reg("param-file-not-found", W, "A <param from=...> names a file that does not exist (ROS 2).")
+LAUNCH_PARSE = _reg("invalid-launch-file", E, "The ros2 launch command refuses to load the file (ROS 2).")
+NOT_ANALYSABLE = _reg("launch-not-analysable", I, "A part of a launch file tvl-lsp cannot know without running it "
+                      "(the analysis stops there).")
 
 MAX_CASES = 64
 MAX_INCLUDE_DEPTH = 12
@@ -116,6 +119,7 @@ class Node2Fact(NodeFact):
     params: dict = field(default_factory=dict)
     param_files: list = field(default_factory=list)
     source: str = ""
+    event: Optional[str] = None     # started by an event handler (OnProcessExit ...), not by the launch
 
 
 def fvars(f: Formula) -> set[str]:
@@ -157,14 +161,35 @@ def feval(f: Formula, env: Mapping[str, bool], memo: Optional[dict] = None) -> b
     return r
 
 
+def _vars_upto(f: Formula, limit: int) -> Optional[list[str]]:
+    """The sorted variables of ``f``, or None as soon as there are more than ``limit``."""
+    out: set[str] = set()
+    seen: set[int] = set()
+    stack = [f]
+    while stack:
+        g = stack.pop()
+        if id(g) in seen:
+            continue
+        seen.add(id(g))
+        if isinstance(g, Var):
+            out.add(g.name)
+            if len(out) > limit:
+                return None
+        elif isinstance(g, Not):
+            stack.append(g.arg)
+        elif isinstance(g, (And, Or)):
+            stack.extend(g.args)
+    return sorted(out)
+
+
 def satisfiable(f: Formula, limit: int = 14) -> Optional[bool]:
     """True / False by brute force over at most ``limit`` variables; None beyond."""
     if f == FALSE:
         return False
     if f == TRUE:
         return True
-    vs = sorted(fvars(f))
-    if len(vs) > limit:
+    vs = _vars_upto(f, limit)
+    if vs is None:
         return None
     for bits in itertools.product((False, True), repeat=len(vs)):
         if feval(f, dict(zip(vs, bits))):
@@ -187,8 +212,12 @@ def merge_facts(facts: list) -> list:
             for r in f.related:
                 if r not in g.related:
                     g.related.append(r)
-    # the cross-check asks the SAT service about each fact anyway: here only the cheap cases
-    return [f for f in out.values() if satisfiable(f.condition, limit=8) is not False]
+    # an error is reported only where it holds whatever the unknowns are (an if/unless value
+    # tvl-lsp cannot compute is never the cause of an error); the cross-check asks the SAT
+    # service about each fact anyway: here only the cheap cases
+    for f in out.values():
+        f.condition = forall_unknowns(f.condition)
+    return [f for f in out.values() if f.condition != FALSE and satisfiable(f.condition, limit=8) is not False]
 
 
 class Stop(Exception):

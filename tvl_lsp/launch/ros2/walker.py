@@ -25,19 +25,22 @@ import os
 import threading
 from typing import Mapping, Optional
 
-from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg
+from ...base.formula import FALSE, TRUE, Formula, conj, disj, neg, unknown
 from ...base.diagnostics import Diagnostic, Related, Severity
 from ...base.text import Span
-from ...base.files import inside, is_regular, read_text_or_none
-from ..model import Element, ErrorFact, IncludeFact
+from ...base.files import is_regular, read_text_or_none
+from ..model import Element, ErrorFact, IncludeFact, Reach
 from . import actions as A
 from . import subst as S
 from .frontend import parse_launch_file
 from .includes import IncludeRules
+from . import coerce as C
 from .nodes import NodeRules
 from .substitutions import SubstEval
-from .values import (E, I, W, declared_in, ARG_LEAK, EXTENSION_TAG, BUDGET, CONDITION_NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
-                     INVALID_NAMESPACE, LaunchFact, MAX_CASES, MAX_VISITS, MAX_WALK_DEPTH, Node2Fact, OPAQUE, RList,
+from .values import (E, I, W, declared_in, ARG_LEAK, EXTENSION_TAG, BUDGET, CONDITION_NOT_ANALYSABLE, NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
+                     INVALID_NAMESPACE, INVALID_VALUE, LaunchFact, MAX_CASES, MAX_VISITS, MAX_WALK_DEPTH, Node2Fact, OPAQUE,
+                     PARAM_INVALID,
+                     RList,
                      Scope, Stop, UNSET_ARG, Unit, _CLASS, _extension, _python_error, _yaml_value, cond_value,
                      make_absolute, merge, opaque, prefix_namespace, present, shown, validate_namespace)
 
@@ -84,9 +87,10 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.env = env
         self.read_file = read_file
         self.root = workspace_root
-        # the symbolic walk reads files inside the workspace and its packages only (see ros1)
+        # every walk reads files inside the workspace and its packages only (see ros1)
         self.confine = ([workspace_root] + list(self.packages.values()) + list(self.installed.values())
-                        if workspace_root and not concrete else None)
+                        if workspace_root else None)
+        self.reach = Reach(self.confine) if self.confine is not None else None
         self.stub = stub_packages
         self.facts: list[ErrorFact] = []
         self.nodes: list[Node2Fact] = []
@@ -118,6 +122,7 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         # (path, span) of if/unless values that are unknown in some case (a configuration an
         # includer sets, $(command) ...): such a condition is neither dead nor constant
         self.unknown_conditions: list = []
+        self.unknowns: dict = {}   # (file, value) -> the unknown of an if/unless tvl-lsp cannot compute
         self.declared_names: dict[str, set[str]] = {}   # file -> the names it declares
         self._extensions: Optional[dict] = None
 
@@ -139,8 +144,8 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         self.noted.add(key)
         self.facts.append(LaunchFact(code, severity, message, path, span, TRUE, []))
 
-    def read(self, path: str) -> Optional[str]:
-        if self.confine is not None and not inside(path, self.confine):
+    def read(self, path: str, confined: bool = True) -> Optional[str]:
+        if confined and self.reach is not None and self.reach.outside(path):
             return None
         if self.read_file is not None:
             try:
@@ -164,9 +169,16 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         if path in self.units:
             return self.units[path]
         if path.endswith(".py"):
-            if text is None and not self.exists(path):
-                return None
-            u = Unit(path, None, [], [], python=True)
+            if text is None:
+                text = self.read(path)
+            if text is None:
+                if not self.exists(path):
+                    return None
+                u = Unit(path, None, [], [], python=True)   # outside what the analysis reads
+                u.decline = ("the file is outside the workspace and its packages", path, None)
+            else:
+                from ..ros2py.frontend import load_unit   # the Python front end (never runs the file)
+                u = load_unit(self, path, text)
             self.units[path] = u
             return u
         if text is None:
@@ -286,9 +298,20 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         span = cond.value.span() or el.tag_span
         for c, v in cases:
             if opaque(v):
-                ok.append(c)
-                if not self.concrete:
-                    self.unknown_conditions.append((el.path, span))
+                if self.concrete:
+                    self.decline(el.path, span, f"tvl-lsp cannot know the value of this '{cond.kind}' condition, "
+                                 "so whether ros2 launch runs this element", c)
+                    ok.append(c)
+                    continue
+                # an unknown, the same for every if/unless of that value (they exclude each
+                # other); an error that depends on it is never reported (merge_facts)
+                k = (el.path, v)
+                u = self.unknowns.get(k)
+                if u is None:
+                    raw = str(cond.value.attr.value).strip()[:60] if cond.value.attr is not None else cond.kind
+                    u = self.unknowns[k] = unknown(f"{len(self.unknowns) + 1}:{raw}")
+                ok.append(conj([c, u if cond.kind == "if" else neg(u)]))
+                self.unknown_conditions.append((el.path, span))
                 continue
             b = cond_value(v)
             if b is None:
@@ -367,7 +390,23 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         elif t == "set_parameter":
             names = self.ev(a.name, sc, cond, el)
             vals = self.ev(a.value, sc, cond, el)
-            items = [(conj([c1, c2]), (n, _yaml_value(v))) for c1, n in names for c2, v in vals]
+            items = []
+            for c1, n in names:
+                for c2, v in vals:
+                    c = conj([c1, c2])
+                    if c == FALSE:
+                        continue
+                    if opaque(v) or opaque(n):
+                        items.append((c, (n, _yaml_value(v))))
+                        continue
+                    try:  # launch_ros' evaluate_parameter_dict: the text typed as YAML
+                        items.append((c, (n, C.evaluate_set_parameter(n, v))))
+                    except TypeError as ex:
+                        self.fact(PARAM_INVALID, f"the value of parameter '{n}' is '{v}', which ros2 launch cannot "
+                                  f"type as YAML: {ex}", el.path, a.value.span() or el.tag_span, c,
+                                  launch=("TypeError", str(ex)))
+                    except Exception:  # beyond the YAML bounds: unknown, not an error
+                        items.append((c, (n, v)))
             self.append_list(sc, "gparams", items, cond)
         elif t == "set_parameters_from_file":
             for c, f in self.ev(a.filename, sc, cond, el):
@@ -380,7 +419,15 @@ class Walker(SubstEval, NodeRules, IncludeRules):
                 self.logs.append(shown(vals[0][1]))
         elif t in ("timer", "ros_timer"):
             if isinstance(a.period, A.Value):
-                self.ev(a.period, sc, cond, el)
+                for c, v in self.ev(a.period, sc, cond, el):
+                    if opaque(v) or S.is_text(a.period.parts):
+                        continue
+                    try:  # TimerAction.execute: the period typed as a float
+                        C.perform_typed(v, float)
+                    except ValueError as ex:
+                        self.fact(INVALID_VALUE, f"the timer's period is '{v}', which ros2 launch cannot read as a "
+                                  f"number: {ex}", el.path, a.period.span() or el.tag_span, c,
+                                  launch=("ValueError", str(ex)))
             self.timers.append((a, el, sc, cond, emap))
         elif t == "reset":
             self.reset(a, el, sc, cond)
@@ -391,6 +438,18 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         elif isinstance(a, A.SimpleA):
             for v in a.values:
                 self.ev(v, sc, cond, el)
+        elif hasattr(a, "walk"):
+            a.walk(self, el, sc, cond, emap)   # an action another front end models (OpaqueFunction ...)
+
+    def decline(self, path: str, span: Span, reason: str, cond: Formula = TRUE) -> None:
+        """tvl-lsp cannot know what follows without running something: the concrete load stops
+        there (saying so, never guessing), the symbolic analysis notes it."""
+        if cond == FALSE:
+            return
+        if self.concrete:
+            self.fact(NOT_ANALYSABLE, reason, path, span, cond, E, launch=("NotAnalysed", reason))
+        else:
+            self.note(NOT_ANALYSABLE, reason, path, span)
 
     # -- lists in the configurations
     def append_list(self, sc: Scope, which: str, items: list, cond: Formula) -> None:

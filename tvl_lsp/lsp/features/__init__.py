@@ -15,6 +15,7 @@ FEATURE_MODULES = (
     "commands",      # configurator + configuration generation
     "graph",         # the computation graph command (hover uses it too)
     "configurator",  # the configurator view's one request (tvl-lsp.configurator)
+    "explain",       # a diagnostic code's page (tvl-lsp.explain; the hover uses it too)
 )
 
 

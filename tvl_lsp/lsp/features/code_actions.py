@@ -37,7 +37,7 @@ from ...base.diagnostics import Diagnostic, Fix, TextEdit
 from ...base.text import Span
 from ..convert import fix_to_edit, from_lsp_range, spans_overlap, to_lsp_diagnostic
 from ...project.facts import MODEL_KINDS
-from .commands import GENERATE, can_create, creation_edit, plan
+from .commands import GENERATE, can_create, check_targets, creation_edit, plan
 
 
 @dataclass
@@ -87,9 +87,13 @@ def merge_fixes(title: str, fixes: list[Fix]) -> Fix:
     """One fix applying several (edits at the same place are concatenated in order)."""
     merged: dict[tuple, TextEdit] = {}
     order = []
+    seen = set()
     for f in fixes:
         for e in f.edits:
             k = (e.path, e.span)
+            if (k, e.new_text) in seen:
+                continue  # the same edit in several fixes (e.g. an import a Python file needs once)
+            seen.add((k, e.new_text))
             if k in merged:
                 merged[k] = TextEdit(e.path, e.span, merged[k].new_text + e.new_text)
             else:
@@ -127,7 +131,8 @@ def _all_missing_args(ls, req: ActionRequest) -> list[types.CodeAction]:
     if len(missing) < 2 or not any(spans_overlap(d.span, req.span) for d in missing):
         return []
     enc = ls.encoding
-    fx = merge_fixes(f"Add all {len(missing)} missing <arg> tags", [f for d in missing for f in d.fixes[:1]])
+    what = "DeclareLaunchArgument actions" if req.doc.path.endswith(".py") else "<arg> tags"
+    fx = merge_fixes(f"Add all {len(missing)} missing {what}", [f for d in missing for f in d.fixes[:1]])
     diags = [to_lsp_diagnostic(d, req.doc.index, enc, ls.index_of) for d in missing]
     return [types.CodeAction(title=fx.title, kind=types.CodeActionKind.QuickFix, diagnostics=diags,
                              edit=fix_to_edit(fx, ls.index_of, enc))]
@@ -161,6 +166,7 @@ def _generation(ls, req: ActionRequest) -> list[types.CodeAction]:
 @resolver("generate")
 async def _resolve_generation(ls, opts: dict) -> Optional[types.WorkspaceEdit]:
     files, out_dir, truncated = await plan(ls, opts)
+    check_targets(ls, files)  # (no link, no FIFO among them: the editor writes them)
     return creation_edit(files)
 
 

@@ -23,7 +23,7 @@ from typing import Any, Optional
 
 from lsprotocol import types
 
-from pygls.exceptions import JsonRpcInvalidParams
+from pygls.exceptions import JsonRpcException, JsonRpcInvalidParams
 
 from ...project.generate import GenerateError, plan_configurations, resolve_folder, ros2_choices
 from ..convert import path_to_uri, uri_to_path
@@ -134,9 +134,9 @@ def register(ls) -> None:
         doc = ls.docs.get(uri)
         rss = None
         try:
-            with open("/proc/self/statm") as fh:
-                rss = int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
-        except (OSError, ValueError):
+            from ...base.files import read_head
+            rss = int((read_head("/proc/self/statm", 256) or b"").split()[1]) * os.sysconf("SC_PAGE_SIZE")
+        except (OSError, ValueError, IndexError):
             pass
         res = ls.results.get(uri)
         return {"text": doc.text if doc else None, "version": doc.version if doc else None,
@@ -234,6 +234,44 @@ async def plan(ls, opts: dict):
     return files, out_dir, mode != "one" and len(products) >= limit
 
 
+class RequestFailed(JsonRpcException):
+    """LSP's RequestFailed (-32803): a valid request that could not be done (a file that cannot
+    be written: a link, a full disk...); its message is one line the editor shows."""
+    CODE = -32803
+
+
+async def write_generated(ls, files, roots: list[str], label: str = "Generate configuration launch files") -> bool:
+    """Write planned configuration files (GeneratedFile) inside ``roots``: through the editor
+    (``workspace/applyEdit``, after checking that no target is a link or a special file) when it
+    can create files, else here (:func:`tvl_lsp.project.generate.write_configurations`: atomic,
+    never through a link).  True when written; raises RequestFailed with a one-line reason."""
+    from ...project.generate import check_configurations, write_configurations
+    try:
+        if can_create(ls):
+            check_configurations(files, roots)
+        else:
+            await ls.run_in_thread(write_configurations, list(files), list(roots))
+            return True
+    except OSError as e:
+        from ...base.safewrite import WriteError, summary
+        raise RequestFailed(summary(e, len(files)) if isinstance(e, WriteError) else str(e))
+    result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
+        edit=creation_edit(files), label=label))
+    return bool(getattr(result, "applied", False))
+
+
+def check_targets(ls, files) -> None:
+    """Raise RequestFailed when a planned file could not be written safely (a symbolic link, a
+    FIFO, a folder that is a link): before an edit that lets the editor write them."""
+    from ...project.generate import check_configurations
+    if not files:
+        return
+    try:
+        check_configurations(files, write_roots(ls, files[0].path))
+    except OSError as e:
+        raise RequestFailed(str(e))
+
+
 def creation_edit(files) -> types.WorkspaceEdit:
     changes: list = []
     for f in files:
@@ -251,15 +289,7 @@ async def generate_configurations(ls, opts: dict) -> dict:
     files, out_dir, truncated = await plan(ls, opts)
     if not files:
         return {"files": [], "applied": False, "message": "no product matches the current configuration"}
-    if can_create(ls):
-        result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
-            edit=creation_edit(files), label="Generate configuration launch files"))
-        applied = bool(getattr(result, "applied", False))
-    else:
-        os.makedirs(out_dir, exist_ok=True)
-        for f in files:
-            with open(f.path, "w", encoding="utf-8") as fh:
-                fh.write(f.text)
-        applied = True
+    applied = await write_generated(ls, files, write_roots(ls, files[0].path))
+    if applied and not can_create(ls):
         ls.info(f"tvl-lsp: wrote {len(files)} configuration launch file(s) to {out_dir}")
     return {"files": [f.path for f in files], "applied": applied, "folder": out_dir, "truncated": truncated}

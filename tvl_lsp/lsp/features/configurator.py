@@ -5,7 +5,9 @@ client that draws it), answered by the same pure API as ``tvl-lsp ui``
     workspace/executeCommand tvl-lsp.configurator [uri, op, params?]
 
 ``uri``: a model, or a launch file paired with one; ``op``: model | state | decide | reset | graph |
-counts | problems | generate | excerpt (see :mod:`tvl_lsp.configurator.api`).  The decisions are
+counts | problems | generate | excerpt | explain | set | complete | configs | save | load | launches
+(see :mod:`tvl_lsp.configurator.api`), or pair (``{launch}``: the launch file the model configures
+from now on, chosen on the page).  The decisions are
 the server's (``tvl-lsp.include`` / ``exclude`` / ``reset`` share them); ``generate`` writes the
 files through ``workspace/applyEdit`` when the client can create files, else itself, in the
 folder of the ``generate.folder`` setting.
@@ -13,15 +15,13 @@ folder of the ``generate.folder`` setting.
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-
 from pygls.exceptions import JsonRpcInvalidParams
 
-from .commands import _in_worker, _path, _refresh_lens, can_create, creation_edit, model_of
+from .commands import _in_worker, _path, _refresh_lens, model_of, write_generated
 
 CONFIGURATOR = "tvl-lsp.configurator"
-_OPS = ("model", "state", "decide", "reset", "counts", "graph", "problems", "generate", "excerpt")
+_OPS = ("model", "state", "decide", "reset", "counts", "graph", "problems", "generate", "excerpt",
+        "explain", "set", "complete", "configs", "save", "load", "launches", "pair", "close")
 
 
 def register(ls) -> None:
@@ -37,6 +37,18 @@ def register(ls) -> None:
         model = model_of(ls, path)
         launch = path if file_kind(path) != "tvl" else None
         roots = ls.roots_for(model)
+        pairings = ls.__dict__.setdefault("configurator_pairings", {})
+        if op == "pair":  # the page chose the launch file this model configures
+            from ...project.generate import inside
+            chosen = params.get("launch")
+            if not isinstance(chosen, str) or file_kind(chosen) == "tvl" or not inside(chosen, roots):
+                raise JsonRpcInvalidParams("pair needs a launch file of the workspace")
+            pairings[model] = chosen
+            return {"model": model, "launch": chosen}
+        launch = launch or pairings.get(model)
+        if op == "close":  # the panel closed: its compilations end with it
+            res = await _in_worker(ls, pool.close, model)
+            return res["result"]
         texts: dict[str, str] = dict(await ls.model_sources(model) or {})
         for lf in ([launch] if launch else ls.launches_for_model(model)):
             t = ls.read_file(lf)
@@ -53,6 +65,8 @@ def register(ls) -> None:
         out = res["result"]
         if op == "generate":
             out["written"] = await _write(ls, out["files"], roots)
+        if op == "save":
+            out["written"] = await _write(ls, [{"path": out["path"], "text": out["text"]}], roots)
         return out
 
 
@@ -64,15 +78,6 @@ async def _write(ls, files: list[dict], roots: list[str]) -> list[str]:
         if not inside(f["path"], roots):
             raise JsonRpcInvalidParams(f"{f['path']} is outside the workspace: not written")
     gen = [GeneratedFile(f["path"], f["text"]) for f in files]
-    if gen and can_create(ls):
-        from lsprotocol import types
-        result = await ls.workspace_apply_edit_async(types.ApplyWorkspaceEditParams(
-            edit=creation_edit(gen), label="Generate configuration launch files"))
-        if not getattr(result, "applied", False):
-            raise JsonRpcInvalidParams("the editor did not create the files")
-    else:
-        for f in gen:
-            os.makedirs(Path(f.path).parent, exist_ok=True)
-            with open(f.path, "w", encoding="utf-8") as fh:
-                fh.write(f.text)
+    if gen and not await write_generated(ls, gen, roots):
+        raise JsonRpcInvalidParams("the editor did not create the files")
     return [f.path for f in gen]

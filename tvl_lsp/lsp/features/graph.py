@@ -92,6 +92,8 @@ async def node_markdown(ls, doc, el) -> list[str]:
     for info in infos:
         lines.append("")
         where = f" (hints: {', '.join(info.hints)})" if info.hints else ""
+        if info.extracted:
+            where += " (read from its sources)"
         lines.append(f"**ROS node** `{info.name}` — `{info.package}/{info.type}`{where}")
         if not info.hinted:
             lines.append(f"- {info.note}" if info.hints_available else
@@ -104,9 +106,12 @@ async def node_markdown(ls, doc, el) -> list[str]:
             when = f" — when `{u.condition}`" if u.condition else ""
             how = ""
             written = "`, `".join(u.written)
+            src = f" at {', '.join(u.sources[:3])}" if u.sources else ""
             if u.remap:
-                how = f" (hint `{written}`, remapped by `{u.remap}`)"
+                how = f" (`{written}`{src}, remapped by `{u.remap}`)"
             elif u.written and u.written != [u.name]:
-                how = f" (hint `{written}`)"
+                how = f" (`{written}`{src})"
+            elif src:
+                how = f" ({src.strip()})"
             lines.append(f"- {VERBS.get(u.kind, u.kind)} `{u.name}`{t}{when}{how}")
     return lines

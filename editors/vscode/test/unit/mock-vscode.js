@@ -21,11 +21,16 @@ function make(settings) {
   };
   const vscode = {
     StatusBarAlignment: { Left: 1, Right: 2 },
-    Uri: { parse: (s) => ({ toString: () => s, fsPath: s }), file: (s) => ({ toString: () => 'file://' + s, fsPath: s }) },
+    Uri: {
+      parse: (s) => ({ toString: () => s, fsPath: s }),
+      file: (s) => ({ toString: () => 'file://' + s, fsPath: s }),
+      from: (c) => ({ ...c, toString: () => `${c.scheme}:${c.path}` }),
+    },
     workspace: {
       workspaceFolders: [{ uri: { fsPath: '/ws' } }],
       getConfiguration: () => config,
       onDidChangeConfiguration: () => disposable,
+      registerTextDocumentContentProvider: () => disposable,
       createFileSystemWatcher: () => ({ dispose: noop, onDidCreate: () => disposable, onDidChange: () => disposable, onDidDelete: () => disposable }),
     },
     window: {

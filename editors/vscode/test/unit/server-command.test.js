@@ -30,7 +30,7 @@ test('a missing server.path is reported, with the path, and no client starts', a
   assert.strictEqual(shown.errors.length, 1);
   assert.match(shown.errors[0], /does not exist/);
   assert.strictEqual(shown.context['tvl-lsp.running'], false);
-  for (const id of ['tvl.include', 'tvl.exclude', 'tvl.reset', 'tvl.count', 'tvl.listProducts', 'tvl.generateConfigurations']) {
+  for (const id of ['tvl.include', 'tvl.exclude', 'tvl.reset', 'tvl.count', 'tvl.listProducts', 'tvl.generateConfigurations', 'tvl.explain']) {
     assert.ok(shown.commands.includes(id), id);
   }
 });

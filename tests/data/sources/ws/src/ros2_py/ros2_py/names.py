@@ -1,0 +1,1 @@
+CHATTER = 'chatter'

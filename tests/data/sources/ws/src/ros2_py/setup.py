@@ -1,0 +1,15 @@
+from setuptools import setup
+
+package_name = 'ros2_py'
+
+setup(
+    name=package_name,
+    version='0.0.1',
+    packages=[package_name],
+    entry_points={
+        'console_scripts': [
+            'talker = ' + package_name + '.talker:main',
+            f'server = {package_name}.server:main',
+        ],
+    },
+)
