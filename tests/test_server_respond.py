@@ -543,7 +543,7 @@ def test_a_newer_text_is_parsed_after_the_parse_of_the_older_one(monkeypatch):
     running, overlap, order = [], threading.Event(), []
     lock = threading.Lock()
 
-    def parse(kind, path, text, read, roots):
+    def parse(kind, path, text, read, roots, *more):
         with lock:
             running.append(text)
             if len(running) > 1:
@@ -560,8 +560,7 @@ def test_a_newer_text_is_parsed_after_the_parse_of_the_older_one(monkeypatch):
 
     async def main():
         t1 = s.parse_task("/w/m.tvl", "tvl", "t1")
-        while not running:  # (t1 under way)
-            await asyncio.sleep(0.01)
+        await _settle(lambda: running, "the parse of t1 under way")
         t2 = s.parse_task("/w/m.tvl", "tvl", "t2")
         t3 = s.parse_task("/w/m.tvl", "tvl", "t3")
         return [(await t).text for t in (t1, t2, t3)]
@@ -576,7 +575,7 @@ def test_a_newer_text_is_parsed_after_the_parse_of_the_older_one(monkeypatch):
 
 
 def test_a_cancelled_parse_request_does_not_stop_the_next_one(monkeypatch):
-    monkeypatch.setattr(checks, "parse_document", lambda kind, path, text, read, roots: SimpleNamespace(text=text))
+    monkeypatch.setattr(checks, "parse_document", lambda kind, path, text, read, roots, *more: SimpleNamespace(text=text))
     pool = cf.ThreadPoolExecutor(2)
     s = _Store(pool)
 
@@ -647,11 +646,11 @@ def test_the_quick_check_skips_a_text_a_newer_one_replaced(tmp_path, monkeypatch
     started, release = threading.Event(), threading.Event()
     real = checks.parse_document
 
-    def parse(kind, p, text, read, roots):
+    def parse(kind, p, text, read, roots, *more):
         if text == old:
             started.set()
             release.wait(60)
-        return real(kind, p, text, read, roots)
+        return real(kind, p, text, read, roots, *more)
     monkeypatch.setattr(checks, "parse_document", parse)
 
     class Srv(_Syntax):

@@ -28,9 +28,11 @@ def cpu_budgets() -> bool:
 
 def cpu_seconds(pid: int) -> float | None:
     """The CPU time (user + system) process ``pid`` has used, or None where /proc says nothing."""
+    from ...base.files import read_head
     try:
-        with open(f"/proc/{pid}/stat", "rb") as fh:
-            data = fh.read()
+        data = read_head(f"/proc/{pid}/stat", 4096)  # (the bounded reader: one line)
+        if not data:
+            return None
         fields = data[data.rindex(b")") + 2:].split()
         return (int(fields[11]) + int(fields[12])) / _TICKS  # utime, stime (fields 14, 15)
     except (OSError, ValueError, IndexError):
