@@ -393,8 +393,8 @@ class _Parsing(_Server):
     def _store_parsed(self, path, text, parsed):
         return self._ds._store_parsed(self, path, text, parsed)
 
-    async def _parse_now(self, path, kind, text):
-        return await self._ds._parse_now(self, path, kind, text)
+    async def _parse_now(self, path, kind, text, before=None):
+        return await self._ds._parse_now(self, path, kind, text, before)
 
     def snapshot_reader(self):
         return lambda p: None
