@@ -16,10 +16,10 @@ import re
 from typing import Optional
 
 from . import apis
-from .cpp_helpers import (_callee, _declarator_name, _define_ir, _function_declarator, _function_type_param,
-                          _is_nodehandle, _is_nodeish_type, _is_string_type, _ptype, _string_value, _vexing)
+from .cpp_helpers import (_callee, _declarator_name, _define_ir, _fcall, _function_declarator, _function_type_param,
+                          _is_nodehandle, _nodekind, _is_nodeish_type, _is_string_type, _ptype, _string_value, _vexing)
 
-VERSION = 7
+VERSION = 8
 MAX_CALLS = 5000
 MAX_RECORDS = 4000
 
@@ -70,7 +70,7 @@ class _Walker:
         self.hints: dict[int, str] = {}   # call start -> parameter type (get_parameter(..).as_double())
         self.f: dict = {"v": VERSION, "calls": [], "consts": {}, "aliases": {}, "using_decls": {}, "using_ns": [],
                         "members": {}, "mtypes": {}, "funcs": {}, "ctors": [], "fcalls": [], "includes": [],
-                        "minits": [], "notes": []}
+                        "minits": [], "binits": [], "gsets": [], "notes": []}
 
     # ------------------------------------------------------------ helpers
     def t(self, n) -> str:
@@ -141,12 +141,13 @@ class _Walker:
         for _ in parts:
             self.ns.pop()
 
-    def v_class_specifier(self, n) -> None:
+    def v_class_specifier(self, n, cname: Optional[str] = None) -> None:
         name = n.child_by_field_name("name")
         body = n.child_by_field_name("body")
         if body is None:
             return
-        cname = self.t(name).split("<")[0].split("::")[-1].strip() if name is not None else "<anonymous>"
+        if cname is None:
+            cname = self.t(name).split("<")[0].split("::")[-1].strip() if name is not None else "<anonymous>"
         self.cls.append(cname)
         saved, self.fn = self.fn, None
         self.walk(body)
@@ -172,7 +173,10 @@ class _Walker:
             return
         for i, ch in enumerate(n.children):
             if n.field_name_for_child(i) == "declarator" and ch.type == "type_identifier":
-                self._alias(self.t(ch), self.t(typ))
+                if typ.type in ("struct_specifier", "class_specifier") and typ.child_by_field_name("name") is None:
+                    self.v_class_specifier(typ, self.t(ch))     # typedef struct { int rate; } Config;
+                else:
+                    self._alias(self.t(ch), self.t(typ))
 
     def v_using_declaration(self, n) -> None:
         text = " ".join(self.t(n).split())
@@ -268,8 +272,12 @@ class _Walker:
             argn = list(args.named_children)
             irs = [self.ir(a) for a in argn]
             self.f["members"].setdefault(cls, {}).setdefault(name, []).append(["ctor", None, irs])
+            if argn and name != cls and len(self.f["binits"]) < MAX_RECORDS:
+                # (when ``name`` is a base class: ``Derived(nh) : Base(nh, 1)`` constructs a Base)
+                self.f["binits"].append({"t": name, "args": irs, "nk": [self.nodekind(a) for a in argn]})
             if len(self.f["minits"]) < MAX_RECORDS and argn:
                 self.f["minits"].append({"cls": cls, "m": name, "args": irs, "nodeish": [self.nodeish(a) for a in argn],
+                                         "nk": [self.nodekind(a) for a in argn],
                                          "texts": [self.t(a)[:200] for a in argn], "pos": self.pos(fi),
                                          "npos": [self.pos(a) for a in argn], "ns": list(self.ns)})
             for a in argn:
@@ -279,6 +287,21 @@ class _Walker:
     def v_field_declaration(self, n) -> None:
         cls = self.cls[-1] if self.cls else None
         typ = n.child_by_field_name("type")
+        if typ is not None and typ.type in ("struct_specifier", "class_specifier") and \
+                typ.child_by_field_name("body") is not None:
+            # struct { int rate; } config_;  (its fields' types, for getParam("rate", config_.rate))
+            if typ.child_by_field_name("name") is None:
+                first = next((_declarator_name(self, ch) for i, ch in enumerate(n.children)
+                              if n.field_name_for_child(i) == "declarator"), None)
+                if first and cls:
+                    anon = f"{cls}.{first}"
+                    self.v_class_specifier(typ, anon)
+                    for i, ch in enumerate(n.children):
+                        if n.field_name_for_child(i) == "declarator" and _declarator_name(self, ch):
+                            self.f["mtypes"].setdefault(cls, {})[_declarator_name(self, ch)] = anon
+                    return
+            else:
+                self.v_class_specifier(typ)
         static = any(c.type == "storage_class_specifier" and self.t(c) == "static" for c in n.children)
         default = n.child_by_field_name("default_value")
         for i, ch in enumerate(n.children):
@@ -364,6 +387,9 @@ class _Walker:
                 irs = [["nhref", x] if self.nodeish(a) and k == 0 else x for k, (a, x) in enumerate(zip(args, irs))]
             ir = ["ctor", tt, irs] if not _is_string_type(tt) else (irs[0] if irs else ["s", ""])
             self._construction(tt, args, irs, dd)
+        elif value is not None and (value.type in ("null", "nullptr") or self.t(value).strip() in ("NULL", "nullptr", "0")) \
+                and ("*" in full_t or "Ptr" in full_t or "ptr" in full_t):
+            ir = None   # a null pointer: the handle it will point to is set later
         elif value is not None:
             ir = self.ir(value)
             if value.type in ("new_expression",) or (value.type == "call_expression" and "make_" in self.t(value)[:60]):
@@ -396,6 +422,7 @@ class _Walker:
         if len(self.f["ctors"]) >= MAX_RECORDS:
             return
         self.f["ctors"].append({"t": " ".join(tt.split()), "args": irs, "nodeish": [self.nodeish(a) for a in args],
+                                "nk": [self.nodekind(a) for a in args],
                                 "texts": [self.t(a)[:200] for a in args], "pos": self.pos(where),
                                 "npos": [self.pos(a) for a in args], "ns": list(self.ns), "cls": self.cur_cls,
                                 "fn": self.fn.name if self.fn else None})
@@ -468,6 +495,8 @@ class _Walker:
             cls = self.cur_cls
             if cls:
                 self.f["members"].setdefault(cls, {}).setdefault(name, []).append(ir)
+            elif fn is not None and len(self.f["gsets"]) < MAX_RECORDS:
+                self.f["gsets"].append([name, ir])   # a global set in a function: g_nh = new ros::NodeHandle()
         elif lt == "field_expression":
             arg = left.child_by_field_name("argument")
             field = left.child_by_field_name("field")
@@ -613,6 +642,9 @@ class _Walker:
             return bool(_NODEISH.match(name))
         return False
 
+    def nodekind(self, a) -> Optional[bool]:
+        return _nodekind(self, a)
+
     # ------------------------------------------------------------ calls
     def v_call_expression(self, n) -> None:
         fnode = n.child_by_field_name("function")
@@ -646,14 +678,10 @@ class _Walker:
                                           else None, self.t(n)[:200]])
             if m in ("make_shared", "make_unique", "allocate_shared") and targs:
                 self._construction(self.t(targs[0]), argn, [self.ir(a) for a in argn], n)
-            elif argn and recv is None and len(self.f["fcalls"]) < MAX_RECORDS and m not in apis.NOT_USER_FUNCS:
+            elif argn and len(self.f["fcalls"]) < MAX_RECORDS and m not in apis.NOT_USER_FUNCS:
                 irs = [self.ir(a) for a in argn]
                 if any(x[0] not in ("dyn",) for x in irs):
-                    self.f["fcalls"].append({"f": m, "args": irs})
-            elif argn and recv is not None and len(self.f["fcalls"]) < MAX_RECORDS and m not in apis.NOT_USER_FUNCS:
-                irs = [self.ir(a) for a in argn]
-                if any(x[0] not in ("dyn",) for x in irs):
-                    self.f["fcalls"].append({"f": m, "args": irs})
+                    self.f["fcalls"].append(_fcall(self, m, recv, prefix, argn, irs))
         if fnode is not None and fnode.type in ("field_expression",):
             a = fnode.child_by_field_name("argument")
             if a is not None:
@@ -715,6 +743,8 @@ class _Walker:
             call["default"] = self.t(argn[di])[:120]
             if not call.get("vtype"):
                 call["vtype"] = self.value_type(argn[di])
+            elif call["vtype"].startswith("@") and di != vi:
+                call["dtype"] = self.value_type(argn[di])   # when the variable's type is not found
         if spec["kind"].startswith("param") and not call.get("vtype") and n.start_byte in self.hints:
             call["vtype"] = self.hints[n.start_byte]
         if spec.get("nharg"):
@@ -867,6 +897,12 @@ class _Walker:
                 return "@" + self.t(field)
             if re.search(r"\.(linear|angular|position|orientation|translation|rotation|point|vector)\.[xyzw]$", t):
                 return "double"  # a geometry_msgs field (float64)
+            if arg is not None and field is not None and arg.type == "identifier" and \
+                    self.t(field).isidentifier() and self.t(a)[len(self.t(arg)):].lstrip().startswith("."):
+                # settings.rate / config_.rate: the field's type in the struct's declaration
+                var = self.t(arg)
+                vt = self.var_type(arg)
+                return f"@{var}.{self.t(field)}" if vt is None else f"@:{vt}.{self.t(field)}"
         if ty == "initializer_list":
             kids = a.named_children
             if kids:

@@ -185,3 +185,45 @@ def _function_type_param(t: str) -> Optional[str]:
     return inner.strip() or None
 
 
+def _nodekind(w, a) -> Optional[bool]:
+    """Whether an argument surely is a node (handle) (True), surely is not (False: a literal, a
+    variable of another declared type), or cannot be told here (None)."""
+    ty = a.type
+    t = w.t(a).strip()
+    if ty in ("string_literal", "raw_string_literal", "concatenated_string", "number_literal", "true", "false",
+              "null", "nullptr", "char_literal", "binary_expression", "initializer_list"):
+        return False
+    if ty == "this" or t in ("this", "*this", "shared_from_this()", "this->shared_from_this()"):
+        return True
+    if ty == "call_expression":
+        return True if w.nodeish(a) else None
+    if ty in ("pointer_expression", "identifier", "type_identifier"):   # (type_identifier: Foo f(a, b);)
+        name = t.lstrip("*&").strip()
+        fn = w.fn
+        if fn is not None and re.fullmatch(r"\w+", name):
+            loc = fn.locals.get(name)
+            if loc is not None:
+                lt = loc["t"] or ""
+                if not lt or "auto" in lt:
+                    return None
+                return _is_nodeish_type(lt)
+            p = fn.params.get(name)
+            if p is not None and p[1] and "auto" not in p[1] and not re.fullmatch(r"[A-Z]\w*", p[1].strip()):
+                return _is_nodeish_type(p[1])   # (a template parameter T: cannot be told)
+    return None
+
+def _fcall(w, m, recv, prefix, argn, irs) -> dict:
+    """A call of a function of the project's: its arguments, and what tells which function of
+    that name it is (the receiver's type, the class it is called from, its qualifier)."""
+    rec = {"f": m, "args": irs, "nk": [w.nodekind(a) for a in argn], "c": w.cur_cls}
+    if prefix:
+        rec["q"] = prefix
+    if recv is not None:
+        rec["r"] = True
+        ri = w.recv_ir(recv)
+        if ri.get("t"):
+            rec["rt"] = ri["t"]
+        elif ri.get("ir") and ri["ir"][0] in ("id", "mem"):
+            ir = ri["ir"]
+            rec["rm"] = [ir[2], ir[1]] if ir[0] == "id" else [ir[1], ir[2]]
+    return rec
