@@ -228,3 +228,79 @@ int main(int argc, char** argv) {
     _pkg(tmp_path, "sm", "add_executable(smoother src/s.cpp)\n", {"src/s.cpp": src}, build="ament_cmake")
     ex = extract([str(tmp_path)], disk=False)
     assert _rows(ex, "smoother") == {("subscribe", "wheel/odom", "nav_msgs/Odometry")}
+
+
+def test_rclcpp_parameter_types_from_type_enums_and_arithmetic(tmp_path):
+    """``declare_parameter(name, rclcpp::PARAMETER_STRING)`` declares a type without a value
+    (also under a name built at run time, and its read into an ``rclcpp::Parameter`` has it);
+    ``1.0 / frequency_`` is a double; ``2 * count_`` cannot be told (count_ could be anything)."""
+    src = """#include <rclcpp/rclcpp.hpp>
+class Filter : public rclcpp::Node {
+public:
+  Filter() : Node("filter") {
+    frequency_ = this->declare_parameter("frequency", 30.0);
+    this->declare_parameter("sensor_timeout", 1.0 / frequency_);
+    this->declare_parameter("window", 2 * count_);
+    this->declare_parameter("gains", rclcpp::ParameterType::PARAMETER_DOUBLE_ARRAY);
+    for (int i = 0; i < 3; ++i) {
+      std::stringstream ss;
+      ss << "odom" << i;
+      std::string topic_name = ss.str();
+      this->declare_parameter(topic_name, rclcpp::PARAMETER_STRING);
+      rclcpp::Parameter parameter;
+      this->get_parameter(topic_name, parameter);
+    }
+  }
+  double frequency_;
+  int count_;
+};
+int main(int argc, char** argv) { rclcpp::init(argc, argv); rclcpp::spin(std::make_shared<Filter>()); }
+"""
+    _pkg(tmp_path, "flt", "add_executable(filter src/f.cpp)\n", {"src/f.cpp": src}, build="ament_cmake")
+    ex = extract([str(tmp_path)], disk=False)
+    assert _rows(ex, "filter") == {
+        ("param_declare", "frequency", "double"),
+        ("param_declare", "sensor_timeout", "double"),
+        ("param_declare", "window", None),
+        ("param_declare", "gains", "double[]"),
+        ("param_declare", "{ss.str()}", "string"),
+        ("param_read", "{ss.str()}", "string"),
+    }
+
+
+def test_a_python_type_imported_under_one_name_from_two_places_is_unknown(tmp_path):
+    """``CmdVelMsg`` is ``Twist`` or ``TwistStamped`` by an environment variable read at run
+    time: no type (never one of the two guessed); a plain import keeps its type."""
+    node = """import os
+import rclpy
+from rclpy.node import Node
+from nav_msgs.msg import Odometry
+if os.environ.get('ROS_DISTRO', 'humble') == 'humble':
+    from geometry_msgs.msg import Twist as CmdVelMsg
+else:
+    from geometry_msgs.msg import TwistStamped as CmdVelMsg
+
+
+class Mover(Node):
+    def __init__(self):
+        super().__init__('mover')
+        self.pub = self.create_publisher(CmdVelMsg, 'cmd_vel', 10)
+        self.sub = self.create_subscription(Odometry, 'odom', self.cb, 10)
+
+    def cb(self, msg):
+        pass
+
+
+def main():
+    rclpy.init()
+    rclpy.spin(Mover())
+"""
+    pkg = tmp_path / "src" / "mover"
+    (pkg / "mover").mkdir(parents=True)
+    (pkg / "package.xml").write_text(PKG_XML.format("mover", "ament_python"))
+    (pkg / "setup.py").write_text("from setuptools import setup\nsetup(name='mover', entry_points={"
+                                  "'console_scripts': ['mover = mover.mover:main']})\n")
+    (pkg / "mover" / "__init__.py").write_text("")
+    (pkg / "mover" / "mover.py").write_text(node)
+    ex = extract([str(tmp_path)], disk=False)
+    assert _rows(ex, "mover") == {("publish", "cmd_vel", None), ("subscribe", "odom", "nav_msgs/Odometry")}

@@ -35,10 +35,25 @@ def _arith_type(t: str) -> Optional[str]:
     u = _MATH_CONST.sub("1.0", t)
     toks = re.findall(r"0[xX][0-9a-fA-F]+[uUlL]*|\d+\.?\d*(?:[eE][-+]?\d+)?[fFuUlL]*|\.\d+(?:[eE][-+]?\d+)?[fF]?"
                       r"|[A-Za-z_]\w*|\S", u)
-    if not toks or any(not (x[0].isdigit() or x[0] == "." or x in "+-*/()") for x in toks):
+    if not toks:
+        return None
+    if any(not (x[0].isdigit() or x[0] == "." or x in "+-*/()") for x in toks):
+        # variables beside a floating literal (1.0 / frequency_): double, as C++ converts them; not
+        # where a function is called (its return type could be anything)
+        floating = any(x[0].isdigit() and ("." in x or "e" in x.lower()) and not x.lower().startswith("0x")
+                       or re.fullmatch(r"\.\d.*", x) for x in toks)
+        calls = any(re.fullmatch(r"[A-Za-z_]\w*", a) and b == "(" for a, b in zip(toks, toks[1:]))
+        if floating and not calls and all(x[0].isdigit() or x[0] in "._" or x[0].isalpha() or x in "+-*/():>"
+                                          for x in toks):
+            return "double"
         return None
     return "double" if any("." in x or ("e" in x.lower() and not x.lower().startswith("0x")) for x in toks) \
         or "/" in toks else "int"
+_PARAM_TYPE_ENUM = re.compile(r"(?:^|::)PARAMETER_(BOOL|INTEGER|DOUBLE|STRING|BYTE_ARRAY|BOOL_ARRAY|INTEGER_ARRAY|"
+                              r"DOUBLE_ARRAY|STRING_ARRAY)$")
+_PARAM_ENUM_TYPES = {"BOOL": "bool", "INTEGER": "int", "DOUBLE": "double", "STRING": "string", "BYTE_ARRAY": "byte[]",
+                     "BOOL_ARRAY": "bool[]", "INTEGER_ARRAY": "int[]", "DOUBLE_ARRAY": "double[]",
+                     "STRING_ARRAY": "string[]"}
 _PLACEHOLDER = re.compile(r"^(?:(?:boost|std)::placeholders::|::)?_(\d)$")
 _NODEISH = re.compile(r"^(?:\*?this|n|nh|pnh|nh_?|n_|node|node_|priv_nh_?|private_nh_?|nh_priv_?|nh_private_?|"
                       r"private_node_handle_?|node_handle_?|nodehandle_?|.*_nh_?|nh_.*|.*node_handle.*|.*_node_?|"
@@ -864,6 +879,10 @@ class _Walker:
             return self.value_type(a.named_children[-1])
         if ty in ("binary_expression", "parenthesized_expression"):
             return _arith_type(t)
+        if ty in ("qualified_identifier", "identifier"):
+            pm = _PARAM_TYPE_ENUM.search(t)
+            if pm:      # declare_parameter("x", rclcpp::PARAMETER_STRING): a declared type, no value
+                return _PARAM_ENUM_TYPES.get(pm.group(1))
         if ty in ("compound_literal_expression",) or (ty == "call_expression" and t.startswith(("std::vector", "vector"))):
             m = re.match(r"(?:std::)?vector\s*<\s*([\w: ]+)\s*>", t)
             if m:

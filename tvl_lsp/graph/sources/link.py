@@ -727,11 +727,11 @@ def param_types(eps: list[Endpoint]) -> None:
     """A parameter read, written or deleted without a type of its own has the type its program
     declares or reads it with elsewhere (one type only)."""
     known: dict[str, set] = {}
-    for e in eps:
-        if e.kind.startswith("param") and e.kind != "param_search" and e.type and not e.dynamic:
+    for e in eps:   # (a dynamic name with its {expression}: the same expression, e.g. in a loop)
+        if e.kind.startswith("param") and e.kind != "param_search" and e.type:
             known.setdefault(e.name, set()).add(e.type)
     for e in eps:
-        if e.kind.startswith("param") and e.kind != "param_search" and e.type is None and not e.dynamic:
+        if e.kind.startswith("param") and e.kind != "param_search" and e.type is None:
             ts = known.get(e.name)
             if ts and len(ts) == 1:
                 e.type = next(iter(ts))
