@@ -304,3 +304,38 @@ def main():
     (pkg / "mover" / "mover.py").write_text(node)
     ex = extract([str(tmp_path)], disk=False)
     assert _rows(ex, "mover") == {("publish", "cmd_vel", None), ("subscribe", "odom", "nav_msgs/Odometry")}
+
+
+def test_names_written_into_c_strings_by_sprintf(tmp_path):
+    """``char topicname[] = "analog_input00"; snprintf(topicname, ..., "analog_input%02d", i)``:
+    the name is the format's (never the array's first value); ``%s`` of a known string is
+    read; ``strcpy`` leaves a run-time value."""
+    src = """#include <ros/ros.h>
+#include <std_msgs/Float64.h>
+#include <cstdio>
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "inputs");
+  ros::NodeHandle nh, pnh("~");
+  std::vector<ros::Publisher> pubs;
+  for (int i = 0; i < 4; i++) {
+    char topicname[] = "analog_input00";
+    snprintf(topicname, sizeof(topicname), "analog_input%02d", i);
+    pubs.push_back(nh.advertise<std_msgs::Float64>(topicname, 1));
+    char param[100];
+    sprintf(param, "%s/gain", "calibration");
+    double gain;
+    pnh.getParam(param, gain);
+  }
+  char label[32] = "label";
+  strcpy(label, argv[1]);
+  std::string value;
+  pnh.getParam(label, value);
+}
+"""
+    _pkg(tmp_path, "io", "add_executable(inputs src/i.cpp)\n", {"src/i.cpp": src})
+    ex = extract([str(tmp_path)], disk=False)
+    assert _rows(ex, "inputs") == {
+        ("publish", "analog_input{i}", "std_msgs/Float64"),
+        ("param_read", "~calibration/gain", "double"),
+        ("param_read", "~{label}", "string"),
+    }

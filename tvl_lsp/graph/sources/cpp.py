@@ -16,10 +16,12 @@ import re
 from typing import Optional
 
 from . import apis
-from .cpp_helpers import (_callee, _declarator_name, _define_ir, _fcall, _function_declarator, _function_type_param,
-                          _is_nodehandle, _nodekind, _is_nodeish_type, _is_string_type, _ptype, _string_value, _vexing)
+from .cpp_helpers import (_C_STRING_WRITERS, _PARAM_ENUM_TYPES, _PARAM_TYPE_ENUM, _arith_type, _callee,
+                          _declarator_name, _define_ir, _fcall, _format_ir, _function_declarator,
+                          _function_type_param, _is_nodehandle, _is_nodeish_type, _is_string_type, _nodekind, _ptype,
+                          _string_value, _vexing)
 
-VERSION = 8
+VERSION = 9
 MAX_CALLS = 5000
 MAX_RECORDS = 4000
 
@@ -27,33 +29,6 @@ _AS_TYPE = {"as_double": "double", "as_int": "int", "as_bool": "bool", "as_strin
             "as_double_array": "double[]", "as_integer_array": "int[]", "as_bool_array": "bool[]",
             "as_string_array": "string[]", "as_byte_array": "int[]"}
 _CLIENT = re.compile(r"client", re.I)
-_MATH_CONST = re.compile(r"\bM_(?:PI|PI_2|PI_4|E|SQRT2|LN2)\b")
-
-
-def _arith_type(t: str) -> Optional[str]:
-    """The type of an arithmetic expression of literals (``M_PI / 180.0``, ``2 * 3``)."""
-    u = _MATH_CONST.sub("1.0", t)
-    toks = re.findall(r"0[xX][0-9a-fA-F]+[uUlL]*|\d+\.?\d*(?:[eE][-+]?\d+)?[fFuUlL]*|\.\d+(?:[eE][-+]?\d+)?[fF]?"
-                      r"|[A-Za-z_]\w*|\S", u)
-    if not toks:
-        return None
-    if any(not (x[0].isdigit() or x[0] == "." or x in "+-*/()") for x in toks):
-        # variables beside a floating literal (1.0 / frequency_): double, as C++ converts them; not
-        # where a function is called (its return type could be anything)
-        floating = any(x[0].isdigit() and ("." in x or "e" in x.lower()) and not x.lower().startswith("0x")
-                       or re.fullmatch(r"\.\d.*", x) for x in toks)
-        calls = any(re.fullmatch(r"[A-Za-z_]\w*", a) and b == "(" for a, b in zip(toks, toks[1:]))
-        if floating and not calls and all(x[0].isdigit() or x[0] in "._" or x[0].isalpha() or x in "+-*/():>"
-                                          for x in toks):
-            return "double"
-        return None
-    return "double" if any("." in x or ("e" in x.lower() and not x.lower().startswith("0x")) for x in toks) \
-        or "/" in toks else "int"
-_PARAM_TYPE_ENUM = re.compile(r"(?:^|::)PARAMETER_(BOOL|INTEGER|DOUBLE|STRING|BYTE_ARRAY|BOOL_ARRAY|INTEGER_ARRAY|"
-                              r"DOUBLE_ARRAY|STRING_ARRAY)$")
-_PARAM_ENUM_TYPES = {"BOOL": "bool", "INTEGER": "int", "DOUBLE": "double", "STRING": "string", "BYTE_ARRAY": "byte[]",
-                     "BOOL_ARRAY": "bool[]", "INTEGER_ARRAY": "int[]", "DOUBLE_ARRAY": "double[]",
-                     "STRING_ARRAY": "string[]"}
 _PLACEHOLDER = re.compile(r"^(?:(?:boost|std)::placeholders::|::)?_(\d)$")
 _NODEISH = re.compile(r"^(?:\*?this|n|nh|pnh|nh_?|n_|node|node_|priv_nh_?|private_nh_?|nh_priv_?|nh_private_?|"
                       r"private_node_handle_?|node_handle_?|nodehandle_?|.*_nh_?|nh_.*|.*node_handle.*|.*_node_?|"
@@ -674,6 +649,9 @@ class _Walker:
             if typ is not None and "NodeHandle" in self.t(typ) and a2 and self.nodeish(a2[0]):
                 irs[0] = ["nhref", irs[0]]
             self.assign(recv, ["ctor", self.t(typ) if typ is not None else None, irs])
+        if m in _C_STRING_WRITERS and recv is None and argn and argn[0].type == "identifier":
+            # sprintf(buf, "joint%u_name", i): buf is what the format makes of the arguments
+            self.assign(argn[0], _format_ir(self, m, argn))
         if m in _AS_TYPE and recv is not None and recv.type == "call_expression":
             self.hints[recv.start_byte] = _AS_TYPE[m]
         if m in apis.PARAM_METHODS and recv is not None and self._param_client(recv):

@@ -227,3 +227,64 @@ def _fcall(w, m, recv, prefix, argn, irs) -> dict:
             ir = ri["ir"]
             rec["rm"] = [ir[2], ir[1]] if ir[0] == "id" else [ir[1], ir[2]]
     return rec
+
+
+_C_STRING_WRITERS = {"sprintf", "snprintf", "strcpy", "strncpy", "strcat", "strncat", "sscanf", "memcpy", "memset",
+                     "vsprintf", "vsnprintf", "strftime"}
+_CONVERSION = re.compile(r"%[-+ #0]*(?:\d+|\*)?(?:\.(?:\d+|\*))?(?:hh|h|ll|l|j|z|t|L)?([diouxXeEfFgGaAcspn%])")
+
+
+def _format_ir(w, m: str, argn: list):
+    """The value a C string function leaves in its first argument: ``sprintf(buf, "in%02d", i)``
+    is ``"in" + {i}``; anything but a printf with a literal format is a run-time value."""
+    fi = {"sprintf": 1, "snprintf": 2}.get(m)
+    if fi is None or fi >= len(argn) or argn[fi].type not in ("string_literal", "concatenated_string"):
+        return ["dyn", w.t(argn[0])]
+    fmt = _string_value(w, argn[fi]) if argn[fi].type == "string_literal" else None
+    if fmt is None:
+        return ["dyn", w.t(argn[0])]
+    parts, rest, pos = [], argn[fi + 1:], 0
+    for mt in _CONVERSION.finditer(fmt):
+        if mt.start() > pos:
+            parts.append(["s", fmt[pos:mt.start()]])
+        pos = mt.end()
+        if mt.group(1) == "%":
+            parts.append(["s", "%"])
+            continue
+        if "*" in mt.group(0) or not rest:
+            return ["dyn", w.t(argn[0])]
+        a = rest.pop(0)
+        ir = w.ir(a)
+        parts.append(ir if mt.group(1) == "s" and ir and ir[0] in ("s", "cat") else ["dyn", w.t(a)])
+    if pos < len(fmt):
+        parts.append(["s", fmt[pos:]])
+    return ["cat", parts] if len(parts) != 1 else parts[0]
+
+
+_MATH_CONST = re.compile(r"\bM_(?:PI|PI_2|PI_4|E|SQRT2|LN2)\b")
+
+
+def _arith_type(t: str) -> Optional[str]:
+    """The type of an arithmetic expression of literals (``M_PI / 180.0``, ``2 * 3``)."""
+    u = _MATH_CONST.sub("1.0", t)
+    toks = re.findall(r"0[xX][0-9a-fA-F]+[uUlL]*|\d+\.?\d*(?:[eE][-+]?\d+)?[fFuUlL]*|\.\d+(?:[eE][-+]?\d+)?[fF]?"
+                      r"|[A-Za-z_]\w*|\S", u)
+    if not toks:
+        return None
+    if any(not (x[0].isdigit() or x[0] == "." or x in "+-*/()") for x in toks):
+        # variables beside a floating literal (1.0 / frequency_): double, as C++ converts them; not
+        # where a function is called (its return type could be anything)
+        floating = any(x[0].isdigit() and ("." in x or "e" in x.lower()) and not x.lower().startswith("0x")
+                       or re.fullmatch(r"\.\d.*", x) for x in toks)
+        calls = any(re.fullmatch(r"[A-Za-z_]\w*", a) and b == "(" for a, b in zip(toks, toks[1:]))
+        if floating and not calls and all(x[0].isdigit() or x[0] in "._" or x[0].isalpha() or x in "+-*/():>"
+                                          for x in toks):
+            return "double"
+        return None
+    return "double" if any("." in x or ("e" in x.lower() and not x.lower().startswith("0x")) for x in toks) \
+        or "/" in toks else "int"
+_PARAM_TYPE_ENUM = re.compile(r"(?:^|::)PARAMETER_(BOOL|INTEGER|DOUBLE|STRING|BYTE_ARRAY|BOOL_ARRAY|INTEGER_ARRAY|"
+                              r"DOUBLE_ARRAY|STRING_ARRAY)$")
+_PARAM_ENUM_TYPES = {"BOOL": "bool", "INTEGER": "int", "DOUBLE": "double", "STRING": "string", "BYTE_ARRAY": "byte[]",
+                     "BOOL_ARRAY": "bool[]", "INTEGER_ARRAY": "int[]", "DOUBLE_ARRAY": "double[]",
+                     "STRING_ARRAY": "string[]"}
