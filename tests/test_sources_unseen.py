@@ -339,3 +339,62 @@ int main(int argc, char** argv) {
         ("param_read", "~calibration/gain", "double"),
         ("param_read", "~{label}", "string"),
     }
+
+
+def test_a_name_set_in_a_local_structs_field(tmp_path):
+    """``desc.name = "min_neighbors"; declare_parameter(desc.name, ...)``: the field's value;
+    set again in a branch, it is known only at run time."""
+    src = """#include <rclcpp/rclcpp.hpp>
+class Outliers : public rclcpp::Node {
+public:
+  explicit Outliers(const rclcpp::NodeOptions & options) : Node("outliers", options) {
+    rcl_interfaces::msg::ParameterDescriptor desc;
+    desc.name = "min_neighbors";
+    desc.description = "neighbours of an inlier";
+    declare_parameter(desc.name, rclcpp::ParameterValue(5), desc);
+    rcl_interfaces::msg::ParameterDescriptor other;
+    other.name = "radius";
+    if (options.use_intra_process_comms()) {
+      other.name = "radius_intra";
+    }
+    declare_parameter(other.name, rclcpp::ParameterValue(0.1), other);
+  }
+};
+#include <rclcpp_components/register_node_macro.hpp>
+RCLCPP_COMPONENTS_REGISTER_NODE(Outliers)
+"""
+    _pkg(tmp_path, "pcl", "add_library(outliers SHARED src/o.cpp)\n"
+                          "rclcpp_components_register_node(outliers PLUGIN \"Outliers\" EXECUTABLE outliers_node)\n",
+         {"src/o.cpp": src}, build="ament_cmake")
+    ex = extract([str(tmp_path)], disk=False)
+    assert _rows(ex, "outliers_node") == {("param_declare", "min_neighbors", "int"),
+                                          ("param_declare", "{other.name}", "double")}
+
+
+def test_string_macros_written_side_by_side(tmp_path):
+    """``#define SCALE "angular_scale"`` and ``#define X "/x"``: ``declare_parameter<double>(SCALE X,
+    1)`` is ``angular_scale/x`` (tree-sitter reads the pair as ``SCALE::X`` or as an argument and
+    an error, by context); a macro beside a literal too."""
+    src = """#include <rclcpp/rclcpp.hpp>
+#include <std_msgs/msg/string.hpp>
+#define SCALE_S "angular_scale"
+#define X_S "/x"
+#define Y_S "/y"
+#define NS_S "spacenav"
+class Nav : public rclcpp::Node {
+public:
+  Nav() : Node("nav") {
+    this->declare_parameter<double>(
+      SCALE_S X_S, 1);
+    pub_ = create_publisher<std_msgs::msg::String>(NS_S "/twist", 10);
+  }
+  rclcpp::Publisher<std_msgs::msg::String>::SharedPtr pub_;
+};
+void read(rclcpp::Node* node) { double v; node->get_parameter<double>(SCALE_S Y_S, v); }
+int main(int argc, char** argv) { rclcpp::init(argc, argv); auto n = std::make_shared<Nav>(); read(n.get()); }
+"""
+    _pkg(tmp_path, "nav", "add_executable(nav src/n.cpp)\n", {"src/n.cpp": src}, build="ament_cmake")
+    ex = extract([str(tmp_path)], disk=False)
+    assert _rows(ex, "nav") == {("param_declare", "angular_scale/x", "double"),
+                                ("param_read", "angular_scale/y", "double"),
+                                ("publish", "spacenav/twist", "std_msgs/String")}

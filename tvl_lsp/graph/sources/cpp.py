@@ -16,12 +16,11 @@ import re
 from typing import Optional
 
 from . import apis
-from .cpp_helpers import (_C_STRING_WRITERS, _PARAM_ENUM_TYPES, _PARAM_TYPE_ENUM, _arith_type, _callee,
-                          _declarator_name, _define_ir, _fcall, _format_ir, _function_declarator,
-                          _function_type_param, _is_nodehandle, _is_nodeish_type, _is_string_type, _nodekind, _ptype,
-                          _string_value, _vexing)
+from .cpp_helpers import (_C_STRING_WRITERS, _callee, _declarator_name, _define_ir, _fcall, _format_ir,
+                          _function_declarator, _function_type_param, _is_nodehandle, _is_nodeish_type,
+                          _is_string_type, _nodekind, _ptype, _string_value, _value_type, _vexing)
 
-VERSION = 9
+VERSION = 10
 MAX_CALLS = 5000
 MAX_RECORDS = 4000
 
@@ -58,6 +57,7 @@ class _Walker:
         self.cls: list[str] = []
         self.fn: Optional[_Fn] = None
         self.hints: dict[int, str] = {}   # call start -> parameter type (get_parameter(..).as_double())
+        self.juxt: dict[int, list] = {}   # argument start -> the macros written after it (A_S X_S)
         self.f: dict = {"v": VERSION, "calls": [], "consts": {}, "aliases": {}, "using_decls": {}, "using_ns": [],
                         "members": {}, "mtypes": {}, "funcs": {}, "ctors": [], "fcalls": [], "includes": [],
                         "minits": [], "binits": [], "gsets": [], "notes": []}
@@ -492,11 +492,30 @@ class _Walker:
             field = left.child_by_field_name("field")
             if arg is not None and field is not None and self.t(arg) == "this" and self.cur_cls:
                 self.f["members"].setdefault(self.cur_cls, {}).setdefault(self.t(field), []).append(ir)
+            elif arg is not None and field is not None and arg.type == "identifier" and self.fn is not None \
+                    and self.t(arg) in self.fn.locals and self.t(left)[len(self.t(arg)):].lstrip().startswith("."):
+                # desc.name = "min_neighbors"; declare_parameter(desc.name, ...): a local struct's field
+                key = f"{self.t(arg)}.{self.t(field)}"
+                fn = self.fn
+                loc = fn.locals.get(key)
+                if loc is None:
+                    fn.locals[key] = {"t": None, "ir": ir, "d": fn.depth, "set": True}
+                elif fn.depth > loc.get("d", 0) or fn.depth:
+                    loc["ir"] = ["dyn", key]
+                else:
+                    loc["ir"] = ir
 
     # ------------------------------------------------------------ expressions
     def ir(self, n, depth: int = 0):
         if depth > 40:
             return ["dyn", self.t(n)[:200]]
+        more = self.juxt.get(n.start_byte)
+        if more and n.type in ("identifier", "string_literal", "qualified_identifier"):
+            head = self.juxt.pop(n.start_byte)
+            try:
+                return ["cat", [self.ir(n, depth + 1)] + [self.ir(c, depth + 1) for c in head]]
+            finally:
+                self.juxt[n.start_byte] = head
         ty = n.type
         if ty == "string_literal":
             return ["s", _string_value(self, n)]
@@ -516,6 +535,10 @@ class _Walker:
             return self.ir(inner, depth + 1) if inner is not None else ["dyn", self.t(n)]
         if ty in ("identifier", "type_identifier"):
             return self.ident(self.t(n))
+        if ty == "qualified_identifier" and any(c.type == "::" and c.start_byte == c.end_byte for c in n.children):
+            # PREFIX_S NAME_S: two string macros side by side, read with a missing "::"
+            return ["cat", [["id", self.t(c), self.cur_cls, list(self.ns)] if c.type == "namespace_identifier"
+                            else self.ir(c, depth + 1) for c in n.named_children]]
         if ty == "qualified_identifier":
             return ["id", self.t(n).replace(" ", "").lstrip(":"), self.cur_cls, list(self.ns)]
         if ty == "field_expression":
@@ -523,6 +546,10 @@ class _Walker:
             field = n.child_by_field_name("field")
             if arg is not None and field is not None and self.t(arg) == "this":
                 return ["mem", self.cur_cls, self.t(field)]
+            if arg is not None and field is not None and arg.type == "identifier" and self.fn is not None:
+                loc = self.fn.locals.get(f"{self.t(arg)}.{self.t(field)}")
+                if loc is not None and loc["ir"] is not None and self.t(n)[len(self.t(arg)):].lstrip()[:1] == ".":
+                    return loc["ir"]
             return ["dyn", self.t(n)]
         if ty == "binary_expression":
             op = n.child_by_field_name("operator")
@@ -557,7 +584,7 @@ class _Walker:
     def call_ir(self, n, depth: int):
         fnode = n.child_by_field_name("function")
         args = n.child_by_field_name("arguments")
-        argn = list(args.named_children) if args is not None else []
+        argn = self.arglist(args)
         recv, m, targs, prefix = _callee(self, fnode)
         if m in ("string", "basic_string", "string_view", "QString", "String") and prefix in ("std", "", None, "ros"):
             return self.ir(argn[0], depth + 1) if argn else ["s", ""]
@@ -635,11 +662,27 @@ class _Walker:
     def nodekind(self, a) -> Optional[bool]:
         return _nodekind(self, a)
 
+    def arglist(self, args) -> list:
+        """The arguments of a call; ``f(PREFIX_S NAME_S, 1)`` (two string macros side by side, which
+        tree-sitter reads as an argument and an error) is one argument, their concatenation."""
+        if args is None:
+            return []
+        out = []
+        for ch in args.named_children:
+            if ch.type == "ERROR" and out and ch.named_children and \
+                    all(c.type in ("identifier", "string_literal", "qualified_identifier") for c in ch.named_children) \
+                    and b"," not in self.src[out[-1].end_byte:ch.start_byte]:
+                self.juxt.setdefault(out[-1].start_byte, []).extend(ch.named_children)
+                continue
+            if ch.type != "comment":
+                out.append(ch)
+        return out
+
     # ------------------------------------------------------------ calls
     def v_call_expression(self, n) -> None:
         fnode = n.child_by_field_name("function")
         args = n.child_by_field_name("arguments")
-        argn = list(args.named_children) if args is not None else []
+        argn = self.arglist(args)
         recv, m, targs, prefix = _callee(self, fnode)
         if m == "reset" and recv is not None and len(argn) == 1 and argn[0].type == "new_expression":
             typ = argn[0].child_by_field_name("type")
@@ -845,67 +888,7 @@ class _Walker:
         return self.ir(a)
 
     def value_type(self, a) -> Optional[str]:
-        ty = a.type
-        t = self.t(a).strip()
-        if ty == "number_literal":
-            return "double" if re.search(r"[.eE]", t) and not t.lower().startswith("0x") else "int"
-        if ty in ("true", "false"):
-            return "bool"
-        if ty in ("string_literal", "raw_string_literal", "concatenated_string"):
-            return "string"
-        if ty == "unary_expression" and a.named_children and a.named_children[-1].type == "number_literal":
-            return self.value_type(a.named_children[-1])
-        if ty in ("binary_expression", "parenthesized_expression"):
-            return _arith_type(t)
-        if ty in ("qualified_identifier", "identifier"):
-            pm = _PARAM_TYPE_ENUM.search(t)
-            if pm:      # declare_parameter("x", rclcpp::PARAMETER_STRING): a declared type, no value
-                return _PARAM_ENUM_TYPES.get(pm.group(1))
-        if ty in ("compound_literal_expression",) or (ty == "call_expression" and t.startswith(("std::vector", "vector"))):
-            m = re.match(r"(?:std::)?vector\s*<\s*([\w: ]+)\s*>", t)
-            if m:
-                return _ptype(f"std::vector<{m.group(1)}>")
-            if re.match(r"(?:std::)?string\s*[{(]", t):
-                return "string"
-        if ty == "call_expression":
-            fnode = a.child_by_field_name("function")
-            ft = self.t(fnode) if fnode is not None else ""
-            if ft in ("std::string", "string") or re.search(r"(\.|->)\s*(c_str|str|string)$", ft):
-                return "string"
-            cm = re.match(r"(?:static_cast|[\w:]*numeric_cast)\s*<\s*([\w: <>]+?)\s*>$", ft.replace("\n", " "))
-            if cm:
-                return _ptype(cm.group(1))
-            if ft.endswith("ParameterValue"):
-                args = a.child_by_field_name("arguments")
-                if args is not None and args.named_children:
-                    return self.value_type(args.named_children[0])
-            return None
-        if ty == "identifier":
-            fn = self.fn
-            if fn is not None and t in fn.locals:
-                return _ptype(fn.locals[t]["t"])
-            if fn is not None and t in fn.params:
-                return _ptype(fn.params[t][1])
-            return "@" + t  # a member: its type is known when linking
-        if ty == "field_expression":
-            arg = a.child_by_field_name("argument")
-            field = a.child_by_field_name("field")
-            if arg is not None and field is not None and self.t(arg) == "this":
-                return "@" + self.t(field)
-            if re.search(r"\.(linear|angular|position|orientation|translation|rotation|point|vector)\.[xyzw]$", t):
-                return "double"  # a geometry_msgs field (float64)
-            if arg is not None and field is not None and arg.type == "identifier" and \
-                    self.t(field).isidentifier() and self.t(a)[len(self.t(arg)):].lstrip().startswith("."):
-                # settings.rate / config_.rate: the field's type in the struct's declaration
-                var = self.t(arg)
-                vt = self.var_type(arg)
-                return f"@{var}.{self.t(field)}" if vt is None else f"@:{vt}.{self.t(field)}"
-        if ty == "initializer_list":
-            kids = a.named_children
-            if kids:
-                inner = self.value_type(kids[0])
-                return inner + "[]" if inner and not inner.startswith("@") else None
-        return None
+        return _value_type(self, a)
 
     def cb_ir(self, a):
         ty = a.type

@@ -288,3 +288,69 @@ _PARAM_TYPE_ENUM = re.compile(r"(?:^|::)PARAMETER_(BOOL|INTEGER|DOUBLE|STRING|BY
 _PARAM_ENUM_TYPES = {"BOOL": "bool", "INTEGER": "int", "DOUBLE": "double", "STRING": "string", "BYTE_ARRAY": "byte[]",
                      "BOOL_ARRAY": "bool[]", "INTEGER_ARRAY": "int[]", "DOUBLE_ARRAY": "double[]",
                      "STRING_ARRAY": "string[]"}
+
+
+def _value_type(w, a) -> Optional[str]:
+    """The C++ type of a value written in the source (a literal, a variable, a cast...); ``@x``:
+    member ``x``'s (known when linking)."""
+    ty = a.type
+    t = w.t(a).strip()
+    if ty == "number_literal":
+        return "double" if re.search(r"[.eE]", t) and not t.lower().startswith("0x") else "int"
+    if ty in ("true", "false"):
+        return "bool"
+    if ty in ("string_literal", "raw_string_literal", "concatenated_string"):
+        return "string"
+    if ty == "unary_expression" and a.named_children and a.named_children[-1].type == "number_literal":
+        return w.value_type(a.named_children[-1])
+    if ty in ("binary_expression", "parenthesized_expression"):
+        return _arith_type(t)
+    if ty in ("qualified_identifier", "identifier"):
+        pm = _PARAM_TYPE_ENUM.search(t)
+        if pm:      # declare_parameter("x", rclcpp::PARAMETER_STRING): a declared type, no value
+            return _PARAM_ENUM_TYPES.get(pm.group(1))
+    if ty in ("compound_literal_expression",) or (ty == "call_expression" and t.startswith(("std::vector", "vector"))):
+        m = re.match(r"(?:std::)?vector\s*<\s*([\w: ]+)\s*>", t)
+        if m:
+            return _ptype(f"std::vector<{m.group(1)}>")
+        if re.match(r"(?:std::)?string\s*[{(]", t):
+            return "string"
+    if ty == "call_expression":
+        fnode = a.child_by_field_name("function")
+        ft = w.t(fnode) if fnode is not None else ""
+        if ft in ("std::string", "string") or re.search(r"(\.|->)\s*(c_str|str|string)$", ft):
+            return "string"
+        cm = re.match(r"(?:static_cast|[\w:]*numeric_cast)\s*<\s*([\w: <>]+?)\s*>$", ft.replace("\n", " "))
+        if cm:
+            return _ptype(cm.group(1))
+        if ft.endswith("ParameterValue"):
+            args = a.child_by_field_name("arguments")
+            if args is not None and args.named_children:
+                return w.value_type(args.named_children[0])
+        return None
+    if ty == "identifier":
+        fn = w.fn
+        if fn is not None and t in fn.locals:
+            return _ptype(fn.locals[t]["t"])
+        if fn is not None and t in fn.params:
+            return _ptype(fn.params[t][1])
+        return "@" + t  # a member: its type is known when linking
+    if ty == "field_expression":
+        arg = a.child_by_field_name("argument")
+        field = a.child_by_field_name("field")
+        if arg is not None and field is not None and w.t(arg) == "this":
+            return "@" + w.t(field)
+        if re.search(r"\.(linear|angular|position|orientation|translation|rotation|point|vector)\.[xyzw]$", t):
+            return "double"  # a geometry_msgs field (float64)
+        if arg is not None and field is not None and arg.type == "identifier" and \
+                w.t(field).isidentifier() and w.t(a)[len(w.t(arg)):].lstrip().startswith("."):
+            # settings.rate / config_.rate: the field's type in the struct's declaration
+            var = w.t(arg)
+            vt = w.var_type(arg)
+            return f"@{var}.{w.t(field)}" if vt is None else f"@:{vt}.{w.t(field)}"
+    if ty == "initializer_list":
+        kids = a.named_children
+        if kids:
+            inner = w.value_type(kids[0])
+            return inner + "[]" if inner and not inner.startswith("@") else None
+    return None
