@@ -398,3 +398,34 @@ int main(int argc, char** argv) { rclcpp::init(argc, argv); auto n = std::make_s
     assert _rows(ex, "nav") == {("param_declare", "angular_scale/x", "double"),
                                 ("param_read", "angular_scale/y", "double"),
                                 ("publish", "spacenav/twist", "std_msgs/String")}
+
+
+def test_defaults_of_a_constructor_declared_in_a_header(tmp_path):
+    """``Robot(const std::string& state = "robot_state", const std::string& markers = "markers")``
+    in the header, the definition without defaults: ``Robot robot;`` and ``Robot r("x/state")``
+    take the header's defaults for what they leave out."""
+    header = """#include <ros/ros.h>
+#include <std_msgs/String.h>
+class Robot {
+public:
+  Robot(const std::string& state_topic = "robot_state", const std::string& marker_topic = "markers");
+private:
+  ros::NodeHandle nh_;
+  ros::Publisher state_pub_, marker_pub_;
+};
+"""
+    robot = """#include "robot/robot.h"
+Robot::Robot(const std::string& state_topic, const std::string& marker_topic)
+  : nh_(), state_pub_(nh_.advertise<std_msgs::String>(state_topic, 1)),
+    marker_pub_(nh_.advertise<std_msgs::String>(marker_topic, 1)) {}
+"""
+    plain = '#include "robot/robot.h"\nint main(int c, char** v) { ros::init(c, v, "plain"); Robot robot; ros::spin(); }\n'
+    named = ('#include "robot/robot.h"\nint main(int c, char** v) { ros::init(c, v, "named");\n'
+             '  Robot r("tutorial/robot_state"); ros::spin(); }\n')
+    _pkg(tmp_path, "robot", "add_executable(plain src/robot.cpp src/plain.cpp)\n"
+                            "add_executable(named src/robot.cpp src/named.cpp)\n",
+         {"include/robot/robot.h": header, "src/robot.cpp": robot, "src/plain.cpp": plain, "src/named.cpp": named})
+    ex = extract([str(tmp_path)], disk=False)
+    assert _rows(ex, "plain") == {("publish", "robot_state", "std_msgs/String"), ("publish", "markers", "std_msgs/String")}
+    assert _rows(ex, "named") == {("publish", "tutorial/robot_state", "std_msgs/String"),
+                                  ("publish", "markers", "std_msgs/String")}

@@ -20,7 +20,7 @@ from .cpp_helpers import (_C_STRING_WRITERS, _callee, _declarator_name, _define_
                           _function_declarator, _function_type_param, _is_nodehandle, _is_nodeish_type,
                           _is_string_type, _nodekind, _ptype, _string_value, _value_type, _vexing)
 
-VERSION = 10
+VERSION = 11
 MAX_CALLS = 5000
 MAX_RECORDS = 4000
 
@@ -60,7 +60,7 @@ class _Walker:
         self.juxt: dict[int, list] = {}   # argument start -> the macros written after it (A_S X_S)
         self.f: dict = {"v": VERSION, "calls": [], "consts": {}, "aliases": {}, "using_decls": {}, "using_ns": [],
                         "members": {}, "mtypes": {}, "funcs": {}, "ctors": [], "fcalls": [], "includes": [],
-                        "minits": [], "binits": [], "gsets": [], "notes": []}
+                        "minits": [], "binits": [], "gsets": [], "pdefaults": {}, "notes": []}
 
     # ------------------------------------------------------------ helpers
     def t(self, n) -> str:
@@ -207,7 +207,7 @@ class _Walker:
         short = parts[-1]
         params = self._params(fd)
         key = f"{cls}::{short}" if cls else short
-        self.f["funcs"].setdefault(key, []).append([[p[1], p[0]] for p in params])
+        self._sig(key, params)
         saved = self.fn
         self.fn = _Fn(short, cls, {p[0]: (i, p[1], p[2]) for i, p in enumerate(params) if p[0]})
         for ch in n.named_children:
@@ -217,6 +217,14 @@ class _Walker:
         if body is not None:
             self.walk(body)
         self.fn = saved
+
+    def _sig(self, key: str, params: list) -> None:
+        """A function's signature, and its parameters' defaults (a header's declaration often has
+        them: ``Robot(const std::string& topic = "robot_state")``)."""
+        self.f["funcs"].setdefault(key, []).append([[p[1], p[0]] for p in params])
+        for i, p in enumerate(params):
+            if p[2] is not None and p[0]:
+                self.f["pdefaults"].setdefault(key, {})[f"{i}:{p[0]}"] = p[2]
 
     def _params(self, fd) -> list[tuple[str, str]]:
         out = []
@@ -301,7 +309,7 @@ class _Walker:
             if fd is not None:
                 name = self.t(fd.child_by_field_name("declarator")).split("::")[-1]
                 key = f"{cls}::{name}" if cls else name
-                self.f["funcs"].setdefault(key, []).append([[p[1], p[0]] for p in self._params(fd)])
+                self._sig(key, self._params(fd))
                 continue
             name = _declarator_name(self, ch)
             if not name or not cls:
@@ -352,7 +360,7 @@ class _Walker:
             parts = name.split("::")
             cls = parts[-2] if len(parts) >= 2 else (self.cls[-1] if self.cls else None)
             key = f"{cls}::{parts[-1]}" if cls else parts[-1]
-            self.f["funcs"].setdefault(key, []).append([[p[1], p[0]] for p in self._params(fd)])
+            self._sig(key, self._params(fd))
             return
         name = _declarator_name(self, dd) if dd is not None else None
         if not name:
@@ -388,6 +396,9 @@ class _Walker:
             ir = ["ctor", tt, []]
         else:
             ir = None
+            if self.fn is not None and re.match(r"[A-Z]\w*$", tt.split("::")[-1]) and "*" not in full_t and \
+                    "&" not in full_t and len(self.f["binits"]) < MAX_RECORDS:
+                self.f["binits"].append({"t": tt, "args": [], "nk": []})   # Robot robot;: its defaults
         if self.fn is not None and "::" not in name:
             entry = {"t": full_t, "ir": ir, "d": self.fn.depth}
             if value is not None and value.type == "lambda_expression":

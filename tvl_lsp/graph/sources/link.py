@@ -28,6 +28,7 @@ class _CppIndex:
         self.ctors: dict[str, list] = {}
         self.fcalls: dict[str, list] = {}
         self.nh_memo: dict[str, Value] = {}
+        self.pdefaults: dict[str, dict] = {}
         for _, f in files:
             for k, v in f.get("consts", {}).items():
                 lst = self.consts.setdefault(k, [])
@@ -43,6 +44,8 @@ class _CppIndex:
                     d.setdefault(m, []).extend(irs)
             for c, mem in f.get("mtypes", {}).items():
                 self.mtypes.setdefault(c, {}).update(mem)
+            for k, d in f.get("pdefaults", {}).items():
+                self.pdefaults.setdefault(k, {}).update(d)
             for k, sigs in f.get("funcs", {}).items():
                 self.funcs.setdefault(k, []).extend(sigs)
             for k, v in f.get("aliases", {}).items():
@@ -107,6 +110,8 @@ def _resolver_cpp(ix: _CppIndex) -> Resolver:
         return _reachable(ix, ix.members.get(cls, {}).get(name))
 
     def arg(cls: Optional[str], fn: str, idx: int, name: str = "", default=None) -> Optional[list]:
+        if default is None:     # declared in a header: Robot(const std::string& topic = "robot_state");
+            default = ix.pdefaults.get(f"{cls}::{fn}" if cls else fn, {}).get(f"{idx}:{name}")
         out = []
         for c in _calls(ix, cls, fn, idx, name):
             if idx < len(c):
@@ -147,6 +152,9 @@ def _calls(ix: _CppIndex, cls: Optional[str], fn: str, idx: int, name: str = "")
         if sig is not None:
             if len(args) > len(sig):
                 continue
+            dflt = ix.pdefaults.get(f"{cls}::{fn}" if cls else fn, {})
+            if any(f"{j}:{sig[j][1]}" not in dflt for j in range(len(args), len(sig))):
+                continue    # too few arguments for this overload
             nk = c.get("nk") or []
             if any(k is not None and j < len(sig) and _param_is_node(sig[j][0]) is not None
                    and k != _param_is_node(sig[j][0]) for j, k in enumerate(nk)):
