@@ -2,7 +2,7 @@
 """Regenerate (or check) the ROS 2 golden files: what the real ros2/launch says about our fixtures.
 
     ROS2_ORACLE=/path/to/ros2-launch-oracle ROS2_ORACLE_VENV=/path/to/venv \\
-        python scripts/ros2_golden.py [--check] [--only NAME ...]
+        python scripts/ros2_golden.py [--data tests/data/ros2py] [--check] [--only NAME ...]
 
 The oracle (``ros2-launch-oracle``, a driver for the real ros2/launch and launch_ros) is not part
 of this repository and never runs in CI: it lives on the developers' machines (see
@@ -10,7 +10,9 @@ of this repository and never runs in CI: it lives on the developers' machines (s
 ``tests/data/ros2/cases.txt`` and on every product of each generic launch file listed there,
 and writes its JSON answers to ``tests/data/ros2/golden/<name>.json``; the tests compare
 ``tvl-lsp``'s ROS 2 front end with these files.  ``--check`` compares instead of writing
-(exit 1 on a difference).
+(exit 1 on a difference).  ``--data`` names another fixture folder of the same layout
+(``tests/data/ros2py``: the Python launch files, whose cases run with ``--allow-python`` --
+only ever on these fixtures, which are ours).
 
 Runs happen under ``env -i`` with a fixed environment (``ORACLE_ENV`` below), so that
 ``$(env ...)`` resolves the same everywhere; the tests use the same environment.
@@ -45,9 +47,11 @@ def read_cases(path: Path = CASES) -> list[dict]:
         if not line or line.startswith("#"):
             continue
         if line.startswith("@products"):
-            _, name, file, model = line.split()
+            words = line.split()
+            options = [w for w in words if w.startswith("--")]
+            _, name, file, model = [w for w in words if not w.startswith("--")]
             for i, product in enumerate(_products(WS / "src" / model)):
-                out.append(dict(name=f"{name}_{i:02d}", options=[], file=file,
+                out.append(dict(name=f"{name}_{i:02d}", options=options, file=file,
                                 args={k: "true" if v else "false" for k, v in product.items()}))
             continue
         name, rest = (x.strip() for x in line.split("|", 1))
@@ -102,9 +106,14 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--check", action="store_true", help="compare with golden/ instead of writing it")
     ap.add_argument("--only", nargs="*", help="only these case names (prefixes)")
+    ap.add_argument("--data", help="the fixture folder (default tests/data/ros2)")
     ns = ap.parse_args(argv)
+    if ns.data:
+        global DATA, WS, GOLDEN, CASES
+        DATA = Path(ns.data).resolve()
+        WS, GOLDEN, CASES = DATA / "ws", DATA / "golden", DATA / "cases.txt"
     oracle = os.environ.get("ROS2_ORACLE") or "ros2-launch-oracle"
-    cases = read_cases()
+    cases = read_cases(CASES)
     if ns.only:
         cases = [c for c in cases if any(c["name"].startswith(p) for p in ns.only)]
     results = run_oracle(cases, oracle)

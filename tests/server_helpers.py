@@ -104,6 +104,18 @@ def apply_text_edits(text: str, edits) -> str:
     return text
 
 
+def edits_by_uri(edit: types.WorkspaceEdit) -> dict[str, list]:
+    """The text edits of a WorkspaceEdit by document URI (``changes`` or, for clients that
+    support it, versioned ``documentChanges``)."""
+    out: dict[str, list] = {}
+    for uri, es in (edit.changes or {}).items():
+        out.setdefault(uri, []).extend(es)
+    for ch in edit.document_changes or []:
+        if isinstance(ch, types.TextDocumentEdit):
+            out.setdefault(ch.text_document.uri, []).extend(ch.edits)
+    return out
+
+
 def install_client_handlers(client: LanguageClient) -> None:
     """What a real editor does and the bare test client does not: accept dynamic
     registrations, and apply workspace edits (CreateFile + text edits) to disk."""

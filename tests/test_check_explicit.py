@@ -67,8 +67,6 @@ def _reported(stdout: str, f: Path) -> list[str]:
                                    "top-level `configurations:`", "error"),
     ("package.xml", "<package format='2'><name>p</name></package>\n",
      "taken to be a catkin package manifest: it is read for package names, not checked", "error"),
-    ("bringup.launch.py", "from launch import LaunchDescription\n", "taken to be a ROS 2 Python launch file",
-     "warning"),
     ("blob.bin", b"\x00\x01\x02", "taken to be a binary file; --check reads only", "error"),
 ])
 def test_every_kind_of_unchecked_file_is_named(run, tmp_path: Path, name, content, taken_to_be, severity):
@@ -82,6 +80,19 @@ def test_every_kind_of_unchecked_file_is_named(run, tmp_path: Path, name, conten
     assert run("--check", "--strict", str(f)).returncode == 1
     r = run("--check", "--format", "json", str(f))
     assert '"file-not-checked"' in r.stdout
+
+
+def test_a_python_launch_file_named_is_checked(run, tmp_path: Path):
+    """A .launch.py file is a launch file (#25): checked, never run.  Without
+    generate_launch_description() ros2 launch cannot load it: that is its error."""
+    f = tmp_path / "bringup.launch.py"
+    f.write_text("from launch import LaunchDescription\n")
+    r = run("--check", str(f))
+    assert r.returncode == 1 and "generate_launch_description()" in r.stdout
+    assert "file-not-checked" not in r.stdout
+    f.write_text("from launch import LaunchDescription\n\n\ndef generate_launch_description():\n"
+                 "    return LaunchDescription([])\n")
+    assert run("--check", str(f)).returncode == 0
 
 
 def test_checked_and_unchecked_files_together(run, tmp_path: Path):

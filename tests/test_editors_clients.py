@@ -98,6 +98,27 @@ def test_launch_and_model_extensions_are_files_the_server_analyses():
         assert file_kind(f"/ws/src/pkg/launch/generic{e}") in ("tvl", "launch"), e
 
 
+def test_vscode_selects_python_launch_files():
+    """ROS 2 Python launch files reach the server (a python selector: by name, or every Python
+    file -- the nodes' sources are read too --; the Python extension keeps them all), are
+    watched, and a workspace that has them activates the extension.  The server analyses them
+    as launch files, and no other Python file as one."""
+    src = (EXT / "src" / "extension.ts").read_text()
+    selectors = re.findall(r"\{ scheme: 'file', language: 'python'(?:, pattern: '([^']*)')? \}", src)
+    assert selectors, "no document selector for Python files"
+    assert any(p == "" or {".launch.py", "_launch.py"} <= set(re.search(r"\{([^}]*)\}", p).group(1).split(","))
+               for p in selectors), selectors
+    call = src[src.index("createFileSystemWatcher("):]
+    watched = "".join(re.findall(r"'([^']*)'", re.sub(r"//[^\n]*", "", call[: call.index(");")])))
+    for suffix in (".launch.py", "_launch.py"):
+        assert file_kind(f"/ws/src/pkg/launch/robot{suffix}") == "launch"
+        assert f"*{suffix}" in watched or "*.py" in watched
+        assert f"workspaceContains:**/*{suffix}" in PACKAGE["activationEvents"]
+    for plain in ("/ws/src/pkg/pkg/util.py", "/ws/src/pkg/setup.py", "/ws/src/pkg/launch/helpers.py"):
+        assert file_kind(plain) != "launch"
+    assert "onLanguage:python" not in PACKAGE["activationEvents"]
+
+
 def test_neovim_filetypes_reach_the_lsp_config():
     ftdetect = (NVIM_DIR / "ftdetect" / "tvl.lua").read_text()
     config = (NVIM_DIR / "lsp" / "tvl_lsp.lua").read_text()

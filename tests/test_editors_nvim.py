@@ -98,3 +98,28 @@ def test_neovim_says_when_the_server_cannot_be_run(tmp_path):
                    env=env, capture_output=True, timeout=60, stdin=subprocess.DEVNULL)
     text = msgs.read_text()
     assert "tvl-lsp: cannot run" in text and "no-such-tvl-lsp" in text, text
+
+
+def test_neovim_on_a_python_launch_file(tmp_path):
+    """A .launch.py keeps its python filetype and gets tvl-lsp (diagnostics, hover, the
+    DeclareLaunchArgument quick fix); an ordinary Python module does not."""
+    ws = tmp_path / "ws"
+    shutil.copytree(REPO / "tests" / "data" / "ros2py_editor" / "ws", ws)
+    out = tmp_path / "result.json"
+    xdg = tmp_path / "xdg"
+    env = dict(os.environ)
+    env.update({"TVL_LSP_REPO": str(REPO), "TVL_LSP_CMD": json.dumps([sys.executable, "-m", "tvl_lsp"]),
+                "TVL_E2E_WS": str(ws), "TVL_E2E_OUT": str(out),
+                "XDG_CONFIG_HOME": str(xdg / "config"), "XDG_DATA_HOME": str(xdg / "data"),
+                "XDG_STATE_HOME": str(xdg / "state"), "XDG_CACHE_HOME": str(xdg / "cache")})
+    cmd = [NVIM, "--headless", "-n", "-i", "NONE", "-u", str(HERE / "init.lua"),
+           "-c", f"luafile {HERE / 'nvim_python_e2e.lua'}"]
+    proc = subprocess.run(cmd, cwd=ws, env=env, capture_output=True, text=True, timeout=300,
+                          stdin=subprocess.DEVNULL)
+    assert out.is_file(), f"the harness wrote no result (exit {proc.returncode}):\n{proc.stderr[-4000:]}"
+    result = json.loads(out.read_text())
+    report = "\n".join(f"{'PASS' if c['ok'] else 'FAIL'} {c['name']}: {json.dumps(c.get('detail'))[:800]}"
+                       for c in result["checks"])
+    assert result["ok"] and proc.returncode == 0, report
+    assert {"tvl_lsp attached to the launch file", "missing-arg gone after the fix",
+            "ordinary Python: tvl_lsp does not attach"} <= {c["name"] for c in result["checks"]}

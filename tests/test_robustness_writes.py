@@ -195,6 +195,13 @@ def test_generate_os_errors_are_one_line(ws, out, says):
     assert says in one_line(p.stderr)
 
 
+def _reads(path: Path) -> str | None:
+    try:
+        return path.read_text()
+    except OSError:
+        return None
+
+
 def test_generate_interrupted_by_sigterm_leaves_complete_files_only(ws):
     """kill -TERM at random moments of ``generate --mode all`` (128 files), over an earlier
     complete generation: every file is the old or the new complete text, never empty or cut,
@@ -207,11 +214,17 @@ def test_generate_interrupted_by_sigterm_leaves_complete_files_only(ws):
     old = {n: (configs / n).read_text() for n in want}
     rng = random.Random(28)
     env = dict(os.environ, PYTHONPATH=str(REPO))
-    stopped = 0
+    stopped = mixed = 0
     for _ in range(12):
         proc = subprocess.Popen([sys.executable, "-m", "tvl_lsp", "generate", str(generic(ws)), "--mode", "all",
                                  "--limit", "200"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
-        time.sleep(rng.uniform(0.3, 1.6))
+        # the moment: when the first new file is in place (polled, so the same on a fast and a slow
+        # machine), then a random few milliseconds more -- the run is in the middle of its writes
+        end = time.monotonic() + 60
+        while proc.poll() is None and time.monotonic() < end and not any(
+                _reads(configs / name) == want[name] for name in want):
+            time.sleep(0.0005)
+        time.sleep(rng.uniform(0, 0.02))
         proc.send_signal(signal.SIGTERM)
         _, err = proc.communicate(timeout=60)
         assert b"Traceback" not in err, err.decode()[-2000:]
@@ -220,6 +233,11 @@ def test_generate_interrupted_by_sigterm_leaves_complete_files_only(ws):
             text = (configs / name).read_text()
             assert text in (want[name], old[name]), f"{name} is neither complete text: {text!r}"
         assert sorted(p.name for p in configs.iterdir()) == sorted(want), "a temporary file was left"
+        new = sum((configs / name).read_text() == want[name] for name in want)
+        mixed += 0 < new < len(want)
+        for name, text in old.items():  # the next run starts over an old generation again
+            (configs / name).write_text(text)
+    assert mixed, "no run was stopped in the middle of its writes: the test did not test anything"
     assert stopped, "no run was interrupted: the test did not test anything"
 
 

@@ -13,8 +13,8 @@ import pytest_lsp
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 
-from server_helpers import (CONFIG, PROFILES, apply_text_edits, diagnostics, install_client_handlers, open_doc,
-                            position_of, start)
+from server_helpers import (CONFIG, PROFILES, apply_text_edits, diagnostics, edits_by_uri, install_client_handlers,
+                            open_doc, position_of, start)
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
@@ -94,9 +94,9 @@ async def test_rename_feature_updates_xml_and_yaml_launch_files(client: Language
     pos = position_of(model, "Teleop", offset=1)
     edit = await client.text_document_rename_async(types.RenameParams(
         text_document=tdi(client.tvl_uri), position=pos, new_name="Joystick"))
-    yaml_new = apply_text_edits(client.yaml.read_text(), edit.changes[client.yaml_uri])
+    yaml_new = apply_text_edits(client.yaml.read_text(), edits_by_uri(edit)[client.yaml_uri])
     assert "Teleop" not in yaml_new and "{name: Joystick," in yaml_new and "$(var Joystick)" in yaml_new
-    xml_new = apply_text_edits(client.xml.read_text(), edit.changes[client.xml_uri])
+    xml_new = apply_text_edits(client.xml.read_text(), edits_by_uri(edit)[client.xml_uri])
     assert "$(var Teleop)" not in xml_new and '<arg name="Joystick" default="false"/>' in xml_new
 
 

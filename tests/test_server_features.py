@@ -10,7 +10,7 @@ import pytest_lsp
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 
-from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, diagnostics,
+from server_helpers import (CONFIG, PROFILES, apply_text_edits, codes, copy_ws, diagnostics, edits_by_uri,
                             install_client_handlers, open_doc, position_of, start)
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
@@ -83,9 +83,9 @@ async def test_rename_feature_updates_model_and_launch_file(client: LanguageClie
     assert prep is not None
     edit = await client.text_document_rename_async(types.RenameParams(
         text_document=tdi(client.tvl_uri), position=pos, new_name="Lidar"))
-    new_model = apply_text_edits(model, edit.changes[client.tvl_uri])
+    new_model = apply_text_edits(model, edits_by_uri(edit)[client.tvl_uri])
     launch = client.scout_launch.read_text()
-    new_launch = apply_text_edits(launch, edit.changes[client.launch_uri])
+    new_launch = apply_text_edits(launch, edits_by_uri(edit)[client.launch_uri])
     assert "Laser" not in new_model and new_model.count("Lidar") == model.count("Laser")
     assert "Laser" not in new_launch and '<arg name="Lidar"/>' in new_launch and "$(arg Lidar)" in new_launch
 

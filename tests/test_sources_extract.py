@@ -187,3 +187,39 @@ def test_bad_sources_are_bounded_or_skipped_with_a_note(tmp_path, monkeypatch):
     names = {e.name for x in ex.executables for e in x.endpoints}
     assert "gen" not in names and "huge" not in names and "caf\ufffd" in names
     assert "chatter_out" in names    # the good sources are read as before
+
+
+def test_members_set_in_many_places_are_worked_out_once(tmp_path):
+    """A member set in K methods from another member, 24 deep: followed along every path this is
+    K^24 evaluations (it never ended); each reference is worked out once per program. The answer is
+    the same as the one of a shallow twin (dynamic: the methods disagree)."""
+    import subprocess
+    import sys
+
+    def program(n, k):
+        lines = ['#include <ros/ros.h>', '#include <std_msgs/String.h>', 'class C {', 'public:',
+                 '  C(ros::NodeHandle& nh) : nh_(nh) {}']
+        for j in range(k):
+            lines += [f'  void f{j}() {{', f'    t0_ = "a{j}";'] + [f'    t{i}_ = t{i - 1}_;' for i in range(1, n + 1)]
+            lines.append('  }')
+        lines += [f'  void go() {{ pub_ = nh_.advertise<std_msgs::String>(t{n}_, 1); }}',
+                  '  ros::NodeHandle nh_; ros::Publisher pub_;',
+                  '  std::string ' + ', '.join(f't{i}_' for i in range(n + 1)) + ';', '};',
+                  'int main(int argc, char** argv) { ros::init(argc, argv, "n"); ros::NodeHandle nh; C c(nh); }']
+        return "\n".join(lines) + "\n"
+
+    got = []
+    for n, k in ((3, 2), (30, 6)):
+        ws = tmp_path / f"ws{n}"
+        pkg = ws / "src" / "p"
+        (pkg / "src").mkdir(parents=True)
+        (pkg / "package.xml").write_text("<package><name>p</name><buildtool_depend>catkin</buildtool_depend></package>")
+        (pkg / "CMakeLists.txt").write_text("project(p)\nadd_executable(n src/n.cpp)\n")
+        (pkg / "src" / "n.cpp").write_text(program(n, k))
+        code = ("from tvl_lsp.graph.sources import extract\n"
+                f"ex = extract([{str(ws)!r}], disk=False)\n"
+                "print(sorted((e.kind, e.dynamic) for x in ex.executables for e in x.endpoints))\n")
+        p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+        assert p.returncode == 0, p.stderr[-2000:]
+        got.append(p.stdout)
+    assert got[0] == got[1] == "[('publish', True)]\n"

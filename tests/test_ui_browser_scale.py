@@ -143,7 +143,9 @@ def test_a_big_model_opens_in_a_virtualised_tree(browser, request, tmp_path):
             pg.locator(".tree").focus()
             pg.keyboard.press("Home")
             pg.keyboard.press("ArrowDown")
-            fid = pg.locator(".tree-row.cursor").get_attribute("data-feature")
+            # (the rows are drawn on the next frame: wait for the cursor on the second row, or the
+            # first row's cursor from the frame drawn between the two keys is read)
+            fid = pg.wait_for_selector('.tree-row.cursor[data-row="1"]').get_attribute("data-feature")
             wait_until(pg, lambda: pg.locator("#details h3").text_content().startswith(fid))
             before = remaining(pg)
             status = pg.locator(".tree-row.cursor").get_attribute("data-status")

@@ -6,12 +6,18 @@
 ;;   (setq tvl-lsp-command '("/path/to/tvl-lsp/.venv/bin/tvl-lsp"))  ; if not on PATH
 ;;   (add-hook 'tvl-mode-hook #'eglot-ensure)
 ;;   (add-hook 'roslaunch-mode-hook #'eglot-ensure)
+;;   (add-hook 'ros2-launch-python-mode-hook #'eglot-ensure)   ; *.launch.py, *_launch.py
+;;
+;; ROS 2 Python launch files (*.launch.py, *_launch.py) open in `ros2-launch-python-mode', a
+;; `python-mode' (its highlighting, indentation and commands) whose eglot server is tvl-lsp;
+;; every other Python file stays in `python-mode' with its own server.
 
 ;;; Code:
 
 (require 'eglot)
 (require 'nxml-mode)
 (require 'project)
+(require 'python)
 
 (defgroup tvl-lsp nil "TVL feature models and ROS launch files." :group 'languages)
 
@@ -51,27 +57,41 @@
   "Major mode for ROS 1 launch files (XML).")
 
 ;;;###autoload
+(define-derived-mode ros2-launch-python-mode python-mode "ROS2-launch.py"
+  "Major mode for ROS 2 launch files written in Python (`python-mode', served by tvl-lsp).")
+
+;;;###autoload
 (progn
+  (add-to-list 'auto-mode-alist '("\\(?:\\.\\|_\\)launch\\.py\\'" . ros2-launch-python-mode))
   (add-to-list 'auto-mode-alist '("\\.tvl\\'" . tvl-mode))
   (add-to-list 'auto-mode-alist '("\\.launch\\(?:\\.xml\\)?\\'" . roslaunch-mode))
   (add-to-list 'auto-mode-alist '("_launch\\.xml\\'" . roslaunch-mode))
   (add-to-list 'auto-mode-alist '("\\.test\\'" . roslaunch-mode)))
 
+(defun tvl-lsp--colcon-root-p (d)
+  "Is D a colcon (ROS 2) workspace: no package itself, with a src folder?"
+  (and (file-directory-p (expand-file-name "src" d))
+       (not (file-exists-p (expand-file-name "package.xml" d)))))
+
 (defun tvl-lsp-project-find (dir)
-  "The catkin workspace above DIR: the folder with .catkin_workspace, .catkin_tools or haros*.yaml."
-  (let ((root (locate-dominating-file
-               dir (lambda (d)
-                     (and (file-directory-p d)
-                          (or (file-exists-p (expand-file-name ".catkin_workspace" d))
-                              (file-exists-p (expand-file-name ".catkin_tools" d))
-                              (directory-files d nil "\\`haros.*\\.ya?ml\\'" t)))))))
-    (when (and root (memq major-mode '(tvl-mode roslaunch-mode)))
+  "The workspace above DIR: the folder with .catkin_workspace, .catkin_tools or haros*.yaml;
+else (outside a git repository, which project.el finds) the colcon workspace: the parent of
+the src folder that holds the packages."
+  (let ((root (or (locate-dominating-file
+                   dir (lambda (d)
+                         (and (file-directory-p d)
+                              (or (file-exists-p (expand-file-name ".catkin_workspace" d))
+                                  (file-exists-p (expand-file-name ".catkin_tools" d))
+                                  (directory-files d nil "\\`haros.*\\.ya?ml\\'" t)))))
+                  (and (not (locate-dominating-file dir ".git"))
+                       (locate-dominating-file dir #'tvl-lsp--colcon-root-p)))))
+    (when (and root (memq major-mode '(tvl-mode roslaunch-mode ros2-launch-python-mode)))
       (cons 'transient (expand-file-name root)))))
 
 (add-hook 'project-find-functions #'tvl-lsp-project-find -50)
 
 (add-to-list 'eglot-server-programs
-             `((tvl-mode roslaunch-mode) . ,(lambda (&rest _) tvl-lsp-command)))
+             `((tvl-mode roslaunch-mode ros2-launch-python-mode) . ,(lambda (&rest _) tvl-lsp-command)))
 
 (provide 'tvl-lsp)
 ;;; tvl-lsp.el ends here

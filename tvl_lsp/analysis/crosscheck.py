@@ -70,6 +70,7 @@ CONSTANT_CONDITION = register(
 _ARG_REF = re.compile(r"\$\((?:arg|var)\s+([^\s)]+)\s*\)")   # roslaunch's $(arg X), ros2's $(var X)
 _STRINGY = re.compile(r"""(==|!=|\bin\b)\s*['"\[]|['"]\s*(==|!=)""")
 _EVAL_ARG_REF = re.compile(r"arg\(\s*['\"]([^'\"]+)['\"]\s*\)")
+_VAR_DEFAULT = re.compile(r"\$\(var\s+([^\s)]+)\s+[^)]")   # ros2's $(var X default)
 MAX_COND_TEXT = 160
 MAX_EXPLAIN_FEATURES = 2000
 
@@ -128,7 +129,37 @@ def _has_cond(e) -> bool:
     return "if" in e.attrs or "unless" in e.attrs
 
 
+# the launch classes of a Python launch file's elements (their tags are the XML front end's)
+_PY_CLASS = {"node": "Node", "node_container": "ComposableNodeContainer", "composable_node": "ComposableNode",
+             "include": "IncludeLaunchDescription", "group": "GroupAction", "arg": "DeclareLaunchArgument",
+             "let": "SetLaunchConfiguration", "executable": "ExecuteProcess", "timer": "TimerAction",
+             "push_ros_namespace": "PushRosNamespace", "set_remap": "SetRemap", "set_parameter": "SetParameter",
+             "load_composable_node": "LoadComposableNodes", "opaque_function": "OpaqueFunction",
+             "event_handler": "RegisterEventHandler", "log": "LogInfo"}
+
+
+def _is_py(path: str) -> bool:
+    return path.endswith(".py")
+
+
+def _cond_shown(e, attr) -> str:
+    """The condition as the file writes it: ``if="$(var x)"``, or a Python file's
+    ``condition=IfCondition(...)``."""
+    if _is_py(e.path):
+        c = e.attrs.get("condition")
+        if c is not None:
+            return f"condition={c.value}"
+    return f'{attr.name}="{attr.value}"'
+
+
+PYTHON_CLASSES = _PY_CLASS  # (for the hosts: hover)
+
+
 def _describe_element(e) -> str:
+    if _is_py(e.path):
+        cls = _PY_CLASS.get(e.tag, e.tag)
+        name = e.attrs.get("name")
+        return f"{cls}(name='{name.value}')" if name is not None else f"{cls}(...)"
     name = e.attrs.get("name")
     if name is not None:
         return f'<{e.tag} name="{name.value}">'
@@ -138,9 +169,28 @@ def _describe_element(e) -> str:
     return f"<{e.tag}>"
 
 
+def _arg_inserter(launch, text: Optional[str], model_name: Optional[str]):
+    """feature -> the fixes that add its argument to the launch file (none when there is no
+    place for it)."""
+    if text is not None and _is_py(launch.path):
+        from ..launch.ros2py.editing import declare_argument_planner
+        try:
+            insert = declare_argument_planner(text, launch.path, launch)
+        except (SyntaxError, ValueError, RecursionError):
+            insert = None
+
+        def python_fix(feature: str, long_name: str) -> list[Fix]:
+            edits = insert(feature, f"feature {long_name} of {model_name}") if insert is not None else None
+            if not edits:
+                return []
+            return [Fix(f"Add DeclareLaunchArgument('{feature}')", tuple(edits), preferred=True)]
+        return python_fix
+    return lambda feature, long_name: _insert_arg_fix(launch, text, feature)
+
+
 def _insert_arg_fix(launch, text: Optional[str], feature: str) -> list[Fix]:
-    if text is None or launch.root is None:
-        return []
+    if text is None or launch.root is None or _is_py(launch.path):
+        return []   # (a Python file's DeclareLaunchArgument is another fix)
     idx = LineIndex(text)
     top_args = [c for c in launch.root.children if c.tag == "arg"]
     ros2 = getattr(launch, "dialect", "ros1") == "ros2"
@@ -224,20 +274,24 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
                 continue
             sug = _closest(a.name, unmatched_feature_names)
             also = None if sug else _closest(a.name, all_feature_names)
-            msg = f"arg `{a.name}` names no feature of {model_name}"
+            msg = f"{'argument' if _is_py(path) else 'arg'} `{a.name}` names no feature of {model_name}"
             fixes = []
             if sug:
                 msg += f"; did you mean `{sug}`?"
                 fixes = [Fix(f"Rename to `{sug}`", (TextEdit(path, a.name_span, sug),), preferred=True)]
             elif also:
                 msg += f" (`{also}` already has its arg)"
+            elif _is_py(path):
+                msg += " (in a generic launch file the declared arguments are exactly the features; "\
+                       "declare other arguments inside a GroupAction)"
             else:
                 msg += " (in a generic launch file the top-level args are exactly the features; "\
                        "move other args into a <group>)"
             out.append(Diagnostic(UNMATCHED_ARG, Severity.WARNING, path, a.name_span, msg,
                                   data={"arg": a.name, "suggestion": sug}, fixes=fixes))
         root_span = _start_tag(launch.root) if launch.root is not None else Span(Pos(0, 0), Pos(0, 0))
-        for f in features:
+        insert_arg = _arg_inserter(launch, launch_text, model_name)
+        for f in features if getattr(launch, "complete", True) else []:   # (a part not followed may declare it)
             if id(f) in matched_features:
                 continue
             name = encoding.name_of(f)
@@ -246,12 +300,19 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             hint = (f" (the <arg name=\"{f.name}\"> on line {nested[0].span.start.line + 1} is inside "
                     f"<{nested[0].parent.tag}>: feature args are direct children of <launch>)"
                     if nested and nested[0].parent is not None else "")
+            if _is_py(path):
+                hint = (f" (the DeclareLaunchArgument('{f.name}') on line {nested[0].span.start.line + 1} is "
+                        "inside a GroupAction: feature arguments are declared in the LaunchDescription itself)"
+                        if nested and nested[0].parent is not None and nested[0].parent.tag != "launch" else "")
+                what = f"no DeclareLaunchArgument('{f.name}') in its LaunchDescription"
+            else:
+                what = f"no top-level <arg name=\"{f.name}\"/>"
             out.append(Diagnostic(
                 MISSING_ARG, Severity.WARNING, path, root_span,
-                f"feature `{name}` of {model_name} has no top-level <arg name=\"{f.name}\"/>: "
+                f"feature `{name}` of {model_name} has {what}: "
                 f"configurations cannot select or deselect it{hint}",
                 related=[Related(f.path, f.name_span, f"feature `{name}` is declared here")],
-                data={"feature": f.name}, fixes=_insert_arg_fix(launch, launch_text, f.name)))
+                data={"feature": f.name}, fixes=insert_arg(f.name, f.long_name)))
     if model is not None and encoding is not None:
         free = [n for n in free_args if encoding.feature_by_name(n) is None]
     else:
@@ -496,8 +557,20 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                    if e.tag == "arg" and "name" in e.attrs and "default" in e.attrs and "value" not in e.attrs
                    and e.path == launch.path} - free_set
 
+    # a configuration read with a default that no <arg> declares is set from the command line just
+    # as well (ros2 launch sets any name:=value it is given): its default is not the only value
+    declared_here = {e.attrs["name"].value for e in launch.elements
+                     if e.tag in ("arg", "let") and "name" in e.attrs and e.path == launch.path}
+    for e in launch.elements:
+        if e.path != launch.path:
+            continue
+        for key in ("if", "unless"):
+            a = e.attrs.get(key)
+            if a is not None:
+                overridable |= {n for n in _VAR_DEFAULT.findall(a.value) if n not in declared_here} - free_set
+
     def reads(value: str) -> set[str]:
-        names = set(_ARG_REF.findall(value)) | set(_EVAL_ARG_REF.findall(value))
+        names = set(_ARG_REF.findall(value)) | set(_EVAL_ARG_REF.findall(value)) | set(_VAR_DEFAULT.findall(value))
         if "$(eval" in value:
             names |= set(re.findall(r"[A-Za-z_]\w*", value))
         return names
@@ -564,7 +637,7 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                 because, rel = _explain(analysis, enc, cond) if modelled and cond != fm.FALSE else ("", [])
                 out.append(Diagnostic(
                     DEAD_ELEMENT, Severity.WARNING, e.path, _start_tag(e),
-                    f'{_describe_element(e)} is never loaded: {why} ({attr.name}="{attr.value}").{because}',
+                    f'{_describe_element(e)} is never loaded: {why} ({_cond_shown(e, attr)}).{because}',
                     related=feature_related(cond) + rel, data={"condition": str(cond)}))
             return
         if parent is not None and _has_cond(e):
@@ -584,7 +657,7 @@ def _dead_and_constant(launch, logic: PairLogic, model_name: Optional[str], mode
                     because, rel = _explain(analysis, enc, fm.conj([pc, fm.neg(cond)])) if modelled else ("", [])
                     out.append(Diagnostic(
                         CONSTANT_CONDITION, Severity.INFORMATION, e.path, attr.value_span,
-                        f'{key}="{attr.value}" is always {value} {scope}: it {eff} '
+                        f'{_cond_shown(e, attr)} is always {value} {scope}: it {eff} '
                         f"{_describe_element(e)}, so the condition can be removed.{because}",
                         related=feature_related(cond) + rel,
                         data={"condition": str(cond), "value": key == "if"}))

@@ -7,6 +7,7 @@ immutable and hashable; the smart constructors fold constants and flatten.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 from typing import Iterable, Mapping, Optional
 
@@ -51,6 +52,13 @@ class Not(Formula):
             object.__setattr__(self, "_h", h)
         return h
 
+    def __eq__(self, other) -> bool:  # the cached hash first: deep formulas share parts
+        if self is other:
+            return True
+        if type(other) is not type(self) or hash(self) != hash(other):
+            return False
+        return self.arg == other.arg
+
     def __str__(self) -> str:
         s = str(self.arg)
         return f"!{s}" if isinstance(self.arg, (Var, Const)) else f"!({s})"
@@ -67,6 +75,13 @@ class And(Formula):
             object.__setattr__(self, "_h", h)
         return h
 
+    def __eq__(self, other) -> bool:  # the cached hash first: deep formulas share parts
+        if self is other:
+            return True
+        if type(other) is not type(self) or hash(self) != hash(other):
+            return False
+        return self.args == other.args
+
     def __str__(self) -> str:
         return " && ".join(_paren(a, Or) for a in self.args)
 
@@ -81,6 +96,13 @@ class Or(Formula):
             h = hash(("Or", self.args))
             object.__setattr__(self, "_h", h)
         return h
+
+    def __eq__(self, other) -> bool:  # the cached hash first: deep formulas share parts
+        if self is other:
+            return True
+        if type(other) is not type(self) or hash(self) != hash(other):
+            return False
+        return self.args == other.args
 
     def __str__(self) -> str:
         return " || ".join(_paren(a, And) for a in self.args)
@@ -100,12 +122,38 @@ def var(name: str) -> Formula:
     return Var(name)
 
 
+# the formulas the smart constructors make, by content: equal formulas are one object, so that
+# comparing them (sets, dicts, conj's "seen") is an identity test, not a walk of two trees that
+# share parts (the symbolic launch walk builds many equal, deep conditions)
+_INTERNED: "weakref.WeakValueDictionary" = weakref.WeakValueDictionary()
+
+
+def _interned(cls, payload) -> Formula:
+    key = (cls, payload)
+    try:
+        f = _INTERNED.get(key)
+    except TypeError:   # an unhashable payload: no interning
+        return cls(payload)
+    if f is None:
+        f = cls(payload)
+        _INTERNED[key] = f
+    return f
+
+
 def neg(f: Formula) -> Formula:
     if isinstance(f, Const):
         return FALSE if f.value else TRUE
     if isinstance(f, Not):
         return f.arg
-    return Not(f)
+    return _interned(Not, f)
+
+
+def _complement(g: Formula):
+    """The negation of ``g`` if such a formula exists already (None otherwise; the checks below
+    only fold ``x && !x``: a negation nobody made cannot be in their sets)."""
+    if isinstance(g, Not):
+        return g.arg
+    return _INTERNED.get((Not, g))
 
 
 def conj(fs: Iterable[Formula]) -> Formula:
@@ -118,13 +166,14 @@ def conj(fs: Iterable[Formula]) -> Formula:
             continue
         for g in (f.args if isinstance(f, And) else (f,)):
             if g not in seen:
-                if neg(g) in seen:
+                ng = _complement(g)
+                if ng is not None and ng in seen:
                     return FALSE
                 seen.add(g)
                 out.append(g)
     if not out:
         return TRUE
-    return out[0] if len(out) == 1 else And(tuple(out))
+    return out[0] if len(out) == 1 else _interned(And, tuple(out))
 
 
 def disj(fs: Iterable[Formula]) -> Formula:
@@ -137,13 +186,14 @@ def disj(fs: Iterable[Formula]) -> Formula:
             continue
         for g in (f.args if isinstance(f, Or) else (f,)):
             if g not in seen:
-                if neg(g) in seen:
+                ng = _complement(g)
+                if ng is not None and ng in seen:
                     return TRUE
                 seen.add(g)
                 out.append(g)
     if not out:
         return FALSE
-    return out[0] if len(out) == 1 else Or(tuple(out))
+    return out[0] if len(out) == 1 else _interned(Or, tuple(out))
 
 
 def implies(a: Formula, b: Formula) -> Formula:

@@ -24,9 +24,9 @@ from .ros2.dialect import Dialect, detect_dialect
 ARG_KINDS = ("arg", "var")
 
 # launch file names: roslaunch's .launch (and .launch.xml, .test), ros2/launch's .launch.xml /
-# .launch.yaml and the *_launch.xml / *_launch.yaml of the ROS 2 tutorials
-LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".launch.yaml", ".launch.yml", "_launch.xml", "_launch.yaml",
-                   "_launch.yml")
+# .launch.yaml / .launch.py and the *_launch.xml / *_launch.yaml / *_launch.py of the ROS 2 tutorials
+LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".launch.yaml", ".launch.yml", ".launch.py", "_launch.xml",
+                   "_launch.yaml", "_launch.yml", "_launch.py")
 
 
 def is_launch_path(path: str) -> bool:
@@ -83,6 +83,9 @@ def _ros2_packages(packages: Mapping[str, str]) -> dict[str, str]:
     return {k: os.path.realpath(v) for k, v in packages.items()}
 
 
+# a Python launch file's literal launch file names (PythonLaunchDescriptionSource(... 'x.launch.py'), os.path.join
+# (..., 'launch', 'x_launch.py'), PathJoinSubstitution([..., 'x.launch.xml']) ...)
+_INCLUDE_PY = re.compile(r"""["']([^"'\n]{0,300}?(?:[._]launch\.(?:py|xml|yaml|yml)|\.launch))["']""")
 _INCLUDE_XML = re.compile(r"<include\b[^>]{0,4000}?\bfile\s*=\s*(?:\"([^\"]*)\"|'([^']*)')", re.S)
 _INCLUDE_YAML = re.compile(r"^\s*-?\s*(?:include\s*:\s*\{[^}\n]*?\bfile\s*:|file\s*:)\s*[\"']?([^\"'\n,}]+)", re.M)
 
@@ -91,6 +94,10 @@ def include_targets(text: str) -> set[str]:
     """The base names of the launch files a launch file includes (as written: ``.../x.launch.xml``
     -> ``x.launch.xml``; names made by a substitution are left out)."""
     out: set[str] = set()
+    if "LaunchDescription" in text[:5_000_000] and ("import" in text[:5_000_000]):
+        # a Python launch file: the launch file names it writes as literals
+        for m in _INCLUDE_PY.finditer(text[:5_000_000]):
+            out.add(m.group(1).strip())
     for m in _INCLUDE_XML.finditer(text[:5_000_000]):
         out.add((m.group(1) if m.group(1) is not None else m.group(2)).strip())
     for m in _INCLUDE_YAML.finditer(text[:5_000_000]):

@@ -27,6 +27,9 @@ class Subst:
     args: tuple[str, ...]
     span: Span
     attr: str
+    # the exact range of the argument name (X of ``$(var X)``, the 'x' of a Python
+    # ``LaunchConfiguration('x')``) when the front end knows it; None: find it in the text
+    name_span: Optional[Span] = None
 
 
 @dataclass(eq=False)
@@ -260,6 +263,9 @@ class LaunchAnalysis:
     # ROS 2: (path, span) of if/unless values tvl-lsp cannot compute in some case (e.g. a launch
     # configuration a file that includes this one sets): neither dead nor constant
     unknown_conditions: list = field(default_factory=list)
+    # False: the front end could not follow all of the file (a Python launch file where it
+    # declined): an argument it did not see declared may be declared there
+    complete: bool = True
 
 
 @dataclass

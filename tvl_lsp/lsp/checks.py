@@ -18,7 +18,7 @@ log = logging.getLogger("tvl_lsp.server")
 Reader = Callable[[str], Optional[str]]
 
 LAUNCH_SUFFIXES = (".launch", ".launch.xml", ".test", ".launch.yaml", ".launch.yml", "_launch.xml",
-                   "_launch.yaml", "_launch.yml")
+                   "_launch.yaml", "_launch.yml", ".launch.py", "_launch.py")
 
 
 def file_kind(path: str) -> Optional[str]:
@@ -48,14 +48,23 @@ def _root_for(path: str, roots: Sequence[str]) -> Optional[str]:
     return best
 
 
-def parse_document(kind: str, path: str, text: str, read: Reader, roots: Sequence[str]):
-    """The front end's result for a document: a TvlResult (model) or a LaunchAnalysis."""
+def parse_document(kind: str, path: str, text: str, read: Reader, roots: Sequence[str],
+                   features: Optional[Sequence[str]] = None):
+    """The front end's result for a document: a TvlResult (model) or a LaunchAnalysis
+    (``features``: those of the paired model, the free args of its symbolic analysis as in
+    ``--check``, with the file's own boolean top-level args)."""
     if kind in ("tvl", "uvl", "dimacs"):
         from ..analysis.formats import parse_any_model
         return parse_any_model(text, path, read_file=read, fmt=kind)
     if kind == "launch":
         from ..launch import analyse_any
-        return analyse_any(text, path, workspace_root=_root_for(path, roots), read_file=read)
+        root = _root_for(path, roots)
+        if features is not None:
+            from ..project.check import free_top_args
+            known = set(features)
+            features = list(features) + [n for n in free_top_args(text, path, root, read, paired=True)
+                                         if n not in known]
+        return analyse_any(text, path, workspace_root=root, read_file=read, features=features)
     return None
 
 
@@ -148,6 +157,13 @@ def full_check_worker(kind: str, path: str, text: str, texts: dict[str, str], ro
     if kind in ("tvl", "uvl", "dimacs"):  # (every model format: project.facts.MODEL_KINDS)
         _start_compiling(path, text, read, budget)
     return full_check(kind, path, text, read, roots, budget, None)
+
+
+def fixes_worker(path: str, text: str, texts: dict[str, str], keys: list, budget: float):
+    """The checked quick fixes of the model's findings ``keys`` (``tvl_lsp.project.fixes``) in the
+    check process, which has parsed and analysed this text for its check already."""
+    from ..project.fixes import fixes_for
+    return fixes_for(path, text, SnapshotReader(texts), [tuple(k) for k in keys], budget)
 
 
 def _start_compiling(path: str, text: str, read: Reader, budget: float) -> None:

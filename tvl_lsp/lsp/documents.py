@@ -65,6 +65,9 @@ class DocumentStore:
         self.roots: list[str] = []
         self.disk_cache: dict[str, tuple[float, str]] = {}
         self.parsed_cache: dict[str, tuple] = {}
+        # the last parse of each open launch file that had no syntax error (completion answers
+        # from it while the text is being typed and does not parse)
+        self.good_parsed: dict[str, Any] = {}
         self._parsing: dict[str, tuple] = {}  # path -> (parse key, task): parses under way
         # caches keyed by content
         self.cache: dict[tuple, Any] = {}
@@ -116,17 +119,50 @@ class DocumentStore:
 
     # ------------------------------------------------------------ parsed documents, workspace, facts
     def _parse_key(self, path: str, text: str) -> tuple:
+        if file_kind(path) == "launch":
+            # a launch file is analysed with the features of its models (as --check does): their
+            # texts are part of its parse's key
+            return (content_key(text), self.epoch, self._models_key(path, text))
         return (content_key(text), self.epoch)
+
+    def _paired_models(self, path: str, text: str) -> tuple:
+        return self.cached(("paired-models", path, hash(text), self.epoch), lambda: tuple(self.models_for_launch(path)))
+
+    def _models_key(self, path: str, text: str) -> tuple:
+        out = []
+        for m in self._paired_models(path, text):
+            t = self.read_file(m)
+            out.append((m, hash(t) if t is not None else None))  # (str hashes are cached by Python)
+        return tuple(out)
+
+    async def launch_features(self, path: str, text: str) -> Optional[list[str]]:
+        """The features of the model paired with the launch file at ``path`` (by the names its
+        presence conditions use), or None when it is paired with none (or the model does not
+        parse): its analysis then treats the file's own boolean args as free, as --check does
+        without a model."""
+        models = self._paired_models(path, text)
+        if not models:
+            return None
+        res = await self.parsed(models[0], wait=None)
+        model = getattr(res, "model", None)
+        if model is None or getattr(model, "root", None) is None:
+            return None
+        from ..project.facts import formula_names
+        return formula_names(model)
 
     def _store_parsed(self, path: str, text: str, parsed) -> None:
         """Keep the latest parse of each file only (parsed trees are big: keeping one per
         keystroke would grow memory and garbage-collection pauses)."""
         if parsed is not None:
             self.parsed_cache[path] = (self._parse_key(path, text), parsed)
+            if hasattr(parsed, "elements") and not any(d.code in ("python-syntax", "xml-syntax")
+                                                       for d in getattr(parsed, "diagnostics", ())):
+                self.good_parsed[path] = parsed
             if len(self.parsed_cache) > 256:
                 for k in list(self.parsed_cache)[:64]:
                     if path_to_uri(k) not in self.docs:
                         self.parsed_cache.pop(k, None)
+                        self.good_parsed.pop(k, None)
 
     def parsed_now(self, path: str):
         """The parsed document for the current text of ``path`` if already known."""
@@ -175,8 +211,9 @@ class DocumentStore:
 
     async def _parse_now(self, path: str, kind: str, text: str):
         try:
+            features = await self.launch_features(path, text) if kind == "launch" else None
             parsed = await self.run_in_thread(checks.parse_document, kind, path, text,
-                                              self.snapshot_reader(), self.roots)
+                                              self.snapshot_reader(), self.roots, features)
             self._store_parsed(path, text, parsed)
             return parsed
         finally:

@@ -206,7 +206,9 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
                 selectors = {k: p.selectors for k, p in pairings_of_choices.items() if p.selectors is not None}
                 features = [f for f in features if f not in pairings_of_choices]
         else:
-            features = tops()
+            # a Python launch file's free arguments come from the analysis itself (its file is
+            # interpreted once); an XML / YAML file's from a parse
+            features = tops() if not path.endswith(".py") else None
         try:
             la = analyse_any(text, path, workspace_root=root, read_file=read_file, features=features,
                              choices=selectors, dialect=dialect, partial=partial and info is None,

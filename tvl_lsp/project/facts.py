@@ -37,6 +37,14 @@ class ModelFacts:
     hover: Optional[list] = None
 
 
+def formula_names(model: M.Model) -> list[str]:
+    """The model's features by the names formulas use (a launch file's args): the short name
+    when no other feature has it, else the long name (``Encoding.name_of``)."""
+    from collections import Counter
+    short = Counter(f.name for f in model.features)
+    return [f.name if short[f.name] == 1 else f.long_name for f in model.features]
+
+
 def _names(items) -> set[str]:
     out = set()
     for x in items or ():
@@ -419,6 +427,8 @@ _ARG_RE = None
 def arg_name_span(subst, index) -> Optional[Span]:
     """The span of X in ``$(arg X)`` / ROS 2's ``$(var X)`` (the subst span is the whole
     ``$(...)``); ``index`` is the LineIndex of the file's text."""
+    if getattr(subst, "name_span", None) is not None:
+        return subst.name_span   # the front end knows it (a Python launch file's string literal)
     import re
     global _ARG_RE
     if _ARG_RE is None:
@@ -446,6 +456,33 @@ def arg_uses(analysis, path: str, name: str) -> list:
             if s.kind in ("arg", "var") and s.args and s.args[0] == name:
                 out.append((e, s))
     return out
+
+
+def included_file(include) -> Optional[str]:
+    """The file an include element of the analysed file includes (None: not resolved)."""
+    import os
+    f = getattr(include, "resolved_file", None)
+    return os.path.normpath(f) if f else None
+
+
+def include_args(analysis, path: str, target: str, name: Optional[str] = None) -> list:
+    """The args the file at ``path`` passes to the launch file ``target`` (``<arg>`` children of
+    its ``<include>``, the keys of a Python include's ``launch_arguments``): elements, in file
+    order (``name``: only those)."""
+    import os
+    target = os.path.normpath(target)
+    out = []
+    for e in own_elements(analysis, path):
+        if e.tag != "include" or included_file(e) != target:
+            continue
+        for c in e.children:
+            if c.tag == "arg" and "name" in c.attrs and (name is None or c.attrs["name"].value == name):
+                out.append(c)
+    return out
+
+
+def text_at(index, span: Span) -> str:
+    return index.text[index.offset(span.start):index.offset(span.end)]
 
 
 # ------------------------------------------------------------------ configurator (worker process)

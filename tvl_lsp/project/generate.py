@@ -272,10 +272,11 @@ PYTHON_SUFFIXES = (".launch.py", "_launch.py")
 
 def writer_for(dialect: str = "ros1", generic_path: str = "", fmt: Optional[str] = None) -> ConfigWriter:
     """The writer for configurations of ``generic_path`` (read as ``dialect``): ``fmt`` when
-    given ("xml": the dialect's XML, "python", or any registered name), else the generic file's
-    own format (a Python launch file gets Python configurations)."""
+    given ("xml": the dialect's XML, "python", or any registered name), else the dialect's XML --
+    for a Python generic file too: an XML launch file that includes the ``.launch.py`` with the
+    product's arguments (issue #25; ros2 launch's XML front end includes Python files)."""
     if fmt in (None, "", "auto"):
-        fmt = "python" if str(generic_path).endswith(PYTHON_SUFFIXES) else "xml"
+        fmt = "xml"
     if fmt == "xml":
         fmt = "ros2" if dialect == "ros2" else "ros1"
     w = WRITERS.get(fmt)

@@ -186,13 +186,12 @@ def explicit_skip_reason(path: str) -> Optional[str]:
     if is_model(path) or is_launch(path) or is_xml_launch_candidate(path) or path.endswith(".cnf"):
         return None  # (a .cnf named on the command line is read as a DIMACS model; an .xml/.test file as
         # a launch file: one whose root is not <launch> gets roslaunch's own error)
-    accepted = ("--check reads only models (.tvl, .uvl, .dimacs), launch files (.launch, .launch.xml, or .xml/.test "
-                "with a <launch> root) and HAROS project files (YAML with a top-level `configurations:`)")
+    accepted = ("--check reads only models (.tvl, .uvl, .dimacs), launch files (.launch, .launch.xml, .launch.yaml, "
+                ".launch.py, or .xml/.test with a <launch> root) and HAROS project files (YAML with a top-level "
+                "`configurations:`)")
     head = read_head(path, 4096)
     if head is None:
         return "cannot be read"
-    if path.endswith(".launch.py"):
-        return "taken to be a ROS 2 Python launch file, which --check does not read (it would have to run it)"
     if path.endswith((".launch.yaml", ".launch.yml")):
         return "taken to be a ROS 2 YAML launch file, which --check does not read yet"
     if is_yaml(path):

@@ -5,7 +5,8 @@
 import * as vscode from 'vscode';
 import { ExecuteCommandRequest, LanguageClient } from 'vscode-languageclient/node';
 
-const MODEL_OR_LAUNCH = /\.(tvl|launch|test)$|\.launch\.xml$/i;
+/** Models and the launch files the server analyses (ROS 1 XML, ROS 2 XML / YAML / Python). */
+export const MODEL_OR_LAUNCH = /\.(tvl|uvl|dimacs|launch|test)$|[._]launch\.(xml|yaml|yml|py)$/i;
 
 export class ConfiguratorPanel {
   static current: ConfiguratorPanel | undefined;

@@ -23,7 +23,7 @@ import { bundledWheel, ensureServer, readyServer, ServerCommand } from './bootst
 export { bundledWheel, environmentKey, ensureServer, findPython, readyServer } from './bootstrap';
 export { ExplainPages, explainUri, linkCodes } from './explain';
 
-import { ConfiguratorPanel } from './configurator';
+import { ConfiguratorPanel, MODEL_OR_LAUNCH } from './configurator';
 import { EXPLAIN_SCHEME, ExplainPages, explainUri, linkCodes } from './explain';
 
 const SECTION = 'tvl-lsp';
@@ -244,7 +244,8 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
       // ROS 2 launch files in YAML (the yaml language keeps its highlighting)
       { scheme: 'file', language: 'yaml', pattern: '**/*{.launch.yaml,.launch.yml,_launch.yaml,_launch.yml}' },
       // the nodes' C++ and Python sources: editing one updates the graph and its findings; a
-      // hover on a topic name says where the node runs and who is on the other end
+      // hover on a topic name says where the node runs and who is on the other end; among the
+      // Python files, the ROS 2 launch files (*.launch.py, *_launch.py), analysed as launch files
       { scheme: 'file', language: 'cpp' },
       { scheme: 'file', language: 'c' },
       { scheme: 'file', language: 'python' },
@@ -319,7 +320,7 @@ function running(): LanguageClient | undefined {
 /** The model or launch file the command is about: the active editor's file. */
 function activeUri(): string | undefined {
   const doc = vscode.window.activeTextEditor?.document;
-  if (!doc || !/\.(tvl|launch|test)$|\.launch\.xml$/i.test(doc.fileName)) {
+  if (!doc || !MODEL_OR_LAUNCH.test(doc.fileName)) {
     void vscode.window.showErrorMessage('Open a TVL model or a launch file paired with one first.');
     return undefined;
   }

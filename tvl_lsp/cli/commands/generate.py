@@ -15,9 +15,10 @@ products are millions (``--t 1``: every feature on and off; ``--t 3``: every val
 warning says so); ``--budget S`` stops the sampler after S seconds and writes what it has, with
 a warning and exit code 1.
 
-``--format``: the launch format of the files: ``auto`` (default) the generic file's own --
-roslaunch XML, ros2 XML, or Python for a ``.launch.py`` generic file --, ``xml``, or ``python``
-(ROS 2: a ``.launch.py`` that includes the generic file, XML, YAML or Python, with the args set).
+``--format``: the launch format of the files: ``auto`` (default) and ``xml``: the generic file's
+dialect's XML -- roslaunch XML, or ros2 XML, also for a ``.launch.py`` generic file (an XML file
+that includes it with the product's arguments) --, or ``python`` (ROS 2: a ``.launch.py`` that
+includes the generic file, XML, YAML or Python, with the args set).
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--budget", type=float, default=None, metavar="S",
                     help="with --mode sample: stop sampling after S seconds (partial sample, exit code 1)")
     ap.add_argument("--format", choices=["auto", "xml", "python"], default="auto",
-                    help="launch format of the files (default: the generic file's)")
+                    help="launch format of the files (default: XML of the generic file's dialect)")
     ap.add_argument("--limit", type=int, default=None,
                     help="at most this many files (default 100; no limit for a sample)")
     ap.add_argument("--include", "-i", action="append", default=[], metavar="F")

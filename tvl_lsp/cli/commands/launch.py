@@ -1,15 +1,19 @@
 """``tvl-lsp launch FILE [name:=value ...] [--json] [--workspace DIR] [--dialect ros1|ros2] [--strict-packages]``
 
-Prints what roslaunch (ROS 1) or ros2 launch (ROS 2: .launch.xml / .launch.yaml) would start
-from FILE under these args, without starting anything: the resolved nodes (full name,
-package, executable, namespace, remaps, params), the include tree, or the error launch would
-raise (exit status 1).
+Prints what roslaunch (ROS 1) or ros2 launch (ROS 2: .launch.xml / .launch.yaml / .launch.py)
+would start from FILE under these args, without starting anything: the resolved nodes (full
+name, package, executable, namespace, remaps, params), the include tree, or the error launch
+would raise (exit status 1).
 
 ROS 2: ``$(find-pkg-share pkg)`` of a workspace package is its source folder; a package that is
 neither in the workspace nor in ``AMENT_PREFIX_PATH`` counts as installed with an empty share
 folder (``--strict-packages``: launch's "package not found" error instead).  Python launch
-files are never executed: ``launch`` stops at an include of one.  The dialect of a
-``.launch.xml`` file is detected (``--dialect`` forces it).
+files are interpreted, never executed; where one needs what cannot be known without running
+it (a branch on an environment variable that is not set, a call tvl-lsp does not model), the
+answer is "not analysable" with the file and line that stop it (exit status 1), never a guess.
+The actions of event handlers (``RegisterEventHandler(OnProcessExit(...))``) start only when a
+process starts or exits: they are listed apart, under "events" (``--json``: ``events``).  The
+dialect of a ``.launch.xml`` file is detected (``--dialect`` forces it).
 
 ROS 1: ``$(find pkg)`` finds what roslaunch finds, the packages of the workspace (the one
 ``--check`` uses for FILE, unless ``--workspace`` names it) and of ``ROS_PACKAGE_PATH``, with
@@ -148,9 +152,22 @@ def _ros2(path: str, args: dict, workspace, as_json: bool, strict: bool) -> int:
                 print("  " + "  " * depth + f"{inc['file']}{state}")
                 show(inc["includes"], depth + 1)
         show(res.includes, 0)
+    if res.events:
+        print("events (their actions start only when a process starts / exits at run time):")
+        for ev in res.events:
+            target = f" of {ev['target']}" if ev["target"] else ""
+            print(f"  {ev['event']}{target} (line {ev['line']}):")
+            for n in ev["nodes"]:
+                print(f"    {n['name'] or '(named by the executable)'}  ({n['package']}/{n['executable']})")
+            if ev["not_analysed"]:
+                print(f"    not analysed: {ev['not_analysed']}")
     for wmsg in res.warnings:
         print(f"warning: {wmsg}")
     if res.error is not None:
         where = f" ({os.path.relpath(res.error_path)}:{res.error_line})" if res.error_path else ""
-        print(f"error: {res.error} [{res.error_code}]{where}")
+        if res.error_type == "NotAnalysed":
+            print(f"not analysable{where}: {res.error} -- what ros2 launch starts from here on is not known "
+                  f"[{res.error_code}]")
+        else:
+            print(f"error: {res.error} [{res.error_code}]{where}")
     return 1 if res.error is not None else 0

@@ -27,6 +27,7 @@ class _CppIndex:
         self.using_ns: list[str] = []
         self.ctors: dict[str, list] = {}
         self.fcalls: dict[str, list] = {}
+        self.nh_memo: dict[str, Value] = {}
         for _, f in files:
             for k, v in f.get("consts", {}).items():
                 lst = self.consts.setdefault(k, [])
@@ -109,9 +110,26 @@ def _resolver_cpp(ix: _CppIndex) -> Resolver:
 
 
 def _nh_namespace(r: Resolver, ix: _CppIndex, e, depth: int = 0) -> Value:
-    """The namespace of the ROS 1 node handle an expression designates ("" for the node's)."""
+    """The namespace of the ROS 1 node handle an expression designates ("" for the node's).
+    Each expression is worked out once per program (members set in many places that refer to
+    each other would otherwise be followed along every path: exponential), and an expression
+    met again while it is being worked out (a handle made from itself) is dynamic."""
     if depth > 12 or not isinstance(e, list) or not e:
         return Value("")
+    key = repr(e)
+    got = ix.nh_memo.get(key)
+    if got is not None:
+        return got if got is not _BUSY else Value.dyn(text_of(e))
+    ix.nh_memo[key] = _BUSY
+    v = _nh_namespace_of(r, ix, e, depth)
+    ix.nh_memo[key] = v
+    return v
+
+
+_BUSY = Value("\0busy")
+
+
+def _nh_namespace_of(r: Resolver, ix: _CppIndex, e, depth: int) -> Value:
     k = e[0]
     if k == "nh":
         return r.evaluate(e[1])

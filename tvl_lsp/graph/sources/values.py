@@ -127,6 +127,9 @@ class Resolver:
         self.arg = arg
         self.member_type = member_type
         self.active: set = set()
+        # each reference is evaluated once per program: a member set in many places from
+        # other members would otherwise be followed along every path (exponential)
+        self.memo: dict = {}
 
     def evaluate(self, e, depth: int = 0) -> Value:
         if not isinstance(e, list) or not e:
@@ -167,17 +170,21 @@ class Resolver:
         if k == "lit":
             return Value.dyn(e[2])
         key = (k, repr(e[1:]))
+        if key in self.memo:
+            return self.memo[key]
         if key in self.active:
             return Value.dyn(text_of(e))
         self.active.add(key)
         try:
             got = self._lookup(e)
             if got is None:
-                return Value.dyn(text_of(e))
-            vals = [self.evaluate(x, depth + 1) for x in got]
-            return agree(vals, text_of(e))
+                v = Value.dyn(text_of(e))
+            else:
+                v = agree([self.evaluate(x, depth + 1) for x in got], text_of(e))
         finally:
             self.active.discard(key)
+        self.memo[key] = v
+        return v
 
     def _lookup(self, e) -> Optional[list]:
         k = e[0]

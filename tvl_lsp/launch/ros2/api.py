@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from dataclasses import dataclass, field
 from typing import Iterable, Mapping, Optional
@@ -16,7 +17,7 @@ from .ament import find_ament_packages, guess_ament_root, installed_packages
 from .frontend import make_elements
 from .values import (IF_AND_UNLESS, LAUNCH_PARSE, MISSING_ATTRIBUTE, NO_LAUNCH_ROOT, OPAQUE, SUBST_ARITY, SUBST_SYNTAX,
                      SUBST_UNKNOWN, UNKNOWN_ATTRIBUTE, UNKNOWN_TAG, merge_facts, shown)
-from .values import Scope, Stop
+from .values import NOT_ANALYSABLE, Scope, Stop
 from .walker import Walker
 
 E = Severity.ERROR
@@ -25,7 +26,13 @@ E = Severity.ERROR
 def _packages(workspace_root: Optional[str], packages: Optional[Mapping[str, str]]) -> dict[str, str]:
     if packages is not None:
         return dict(packages)
-    return {n: os.path.realpath(p.folder) for n, p in find_ament_packages(workspace_root).items()}
+    return dict(_real_folders(tuple((n, p.folder) for n, p in find_ament_packages(workspace_root).items())))
+
+
+@functools.lru_cache(maxsize=32)
+def _real_folders(folders: tuple) -> tuple:
+    """(name, real folder) of each package (remembered: a workspace's files are checked one by one)."""
+    return tuple((n, os.path.realpath(f)) for n, f in folders)
 
 
 def load_error_code(err: A.LoadError) -> str:
@@ -148,12 +155,36 @@ def free_args2(text: str, path: str, unused: bool = False) -> list[str]:
     ``$(if)`` (an arg also used as a string -- a name, a file, inside ``$(eval)`` or
     ``$(equals)`` -- keeps its default).  ``unused``: args this file never reads count too (a
     generic file paired with a model: its top-level args are the product's)."""
+    if path.endswith(".py"):
+        u = _python_unit(text, path)
+        return python_free_args(u, unused) if u is not None else []
     from .frontend import parse_launch_file
     doc = parse_launch_file(text, path)
     if doc.root is None:
         return []
     acts, _ = A.parse_description(doc.root, path)
     return free_args_of(acts, unused)
+
+
+def python_free_args(u, unused: bool = False) -> list[str]:
+    """:func:`free_args_of` of a Python launch file's unit: arguments an OpaqueFunction reads are
+    used as strings there (not free)."""
+    bad = {x.args[0] for x in getattr(u.doc.root, "substs", []) if x.attr == "python" and x.args}
+    return [n for n in free_args_of(u.actions, unused) if n not in bad]
+
+
+def _python_unit(text: str, path: str):
+    """A Python launch file's unit on its own (its workspace's packages, no environment): what
+    it declares does not depend on the walk."""
+    path = os.path.abspath(path)
+    root = guess_ament_root(path)
+    w = Walker(concrete=False, packages=_packages(root, None), env={}, workspace_root=root)
+    w.root_path = path
+    try:
+        u = w.unit(path, text)
+    except Exception:
+        return None
+    return u if u is not None and u.doc is not None else None
 
 
 def choice_cases(name: str, choices: list[str], selectors: Optional[list[tuple[Formula, str]]] = None):
@@ -197,10 +228,15 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
                workspace_root=workspace_root, installed=installed_packages(env))
     w.root_path = path
     w.lenient = lenient
-    if path.endswith(".py"):
-        return LaunchAnalysis(path, [], [], [], [], [], [], [], [], None)
     u = w.unit(path, text)
+    if u.doc is None:   # a Python file outside what the analysis reads
+        return LaunchAnalysis(path, [], [], [], [], [], [], [], [], None, "ros2")
     w.diagnostics.extend(u.doc.diagnostics)
+    if u.python and getattr(u, "decline", None) is not None:
+        reason, _, dspan = u.decline
+        w.diagnostics.append(Diagnostic(NOT_ANALYSABLE, Severity.INFORMATION, path,
+                                        dspan or u.doc.root.tag_span,
+                                        f"tvl-lsp cannot analyse this Python launch file: {reason}"))
     root_el = None
     feature_decls: list[ArgDecl] = []
     free: list[str] = []
@@ -210,7 +246,8 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
         root_el.condition = TRUE
         w.diagnostics.extend(_root_diagnostics(w, path, u.errors))
         tops = [a for a in u.actions if isinstance(a, A.ArgA)]
-        free = list(features) if features is not None else free_args_of(u.actions)
+        free = list(features) if features is not None else python_free_args(u) if u.python is False and \
+            getattr(u.doc, "kind", "") == "py" else free_args_of(u.actions)
         root_args: dict = {}
         for f in free:
             root_args[f] = [(Var(f), "true"), (neg(Var(f)), "false")]
@@ -246,12 +283,15 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
             if el is None or "name" not in el.attrs:
                 continue
             at = el.attrs
-            feature_decls.append(ArgDecl(a.name, el.span, at["name"].value_span,
-                                         at["default"].value if "default" in at else None, None,
+            default = at["default"].value if "default" in at else None
+            if getattr(a.entity, "kind", "") == "py":   # one place of a Python file may declare several
+                default = S.plain(a.default.parts) if a.default is not None else None
+            feature_decls.append(ArgDecl(a.name, el.span, at["name"].value_span, default, None,
                                          a.description, path, el))
     la = LaunchAnalysis(path, w.diagnostics, feature_decls, free, w.elements, w.nodes, merge_facts(w.facts),
                         w.includes, [], root_el, "ros2")
     la.unknown_conditions = list(dict.fromkeys(w.unknown_conditions))
+    la.complete = not any(f.code == NOT_ANALYSABLE and f.path == path for f in list(w.facts) + w.diagnostics)
     for d in feature_decls:
         a = next((x for x in (u.actions if u.doc.root is not None else []) if isinstance(x, A.ArgA)
                   and x.name == d.name and x.choices is not None), None)
@@ -262,6 +302,10 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
 
 def choice_args(text: str, path: str) -> dict[str, list[str]]:
     """The top-level args with <choice> values: name -> values."""
+    if path.endswith(".py"):
+        u = _python_unit(text, path)
+        acts = u.actions if u is not None else []
+        return {a.name: list(a.choices) for a in acts if isinstance(a, A.ArgA) and a.choices is not None}
     from .frontend import parse_launch_file
     doc = parse_launch_file(text, path)
     if doc.root is None:
@@ -307,12 +351,17 @@ class Launch2Result:
     error_line: Optional[int] = None
     not_analysed: list = field(default_factory=list)
     logs: list = field(default_factory=list)
+    # actions of event handlers (Python's RegisterEventHandler): they start only when a process
+    # starts / exits ... at run time, so they are listed apart from ``nodes``
+    events: list = field(default_factory=list)
 
     def to_json(self) -> dict:
         out = {"dialect": "ros2", "file": self.file, "args": self.declared, "given": self.args,
                "launch_configurations": self.configurations, "nodes": self.nodes,
                "executables": self.executables, "includes": self.includes, "logs": self.logs,
                "warnings": self.warnings, "not_analysed": self.not_analysed, "error": self.error}
+        if self.events:
+            out["events"] = self.events
         if self.error is not None:
             out.update(error_type=self.error_type, error_code=self.error_code, error_file=self.error_path,
                        error_line=self.error_line)
@@ -351,8 +400,10 @@ def load_launch2(path: str, args: Mapping[str, str], workspace_root: Optional[st
             return res
         u = w.unit(path, text)
         if u.python:
-            res.error = f"{os.path.basename(path)} is a Python launch file: tvl-lsp does not execute it"
-            res.error_type, res.error_code = "NotAnalysed", "python-launch-include"
+            reason, dpath, dspan = getattr(u, "decline", None) or ("tvl-lsp does not execute it", path, None)
+            res.error = f"tvl-lsp cannot analyse the Python launch file {os.path.basename(path)}: {reason}"
+            res.error_type, res.error_code = "NotAnalysed", NOT_ANALYSABLE
+            res.error_path, res.error_line = dpath, (dspan.start.line + 1 if dspan is not None else None)
             return res
         if u.errors:
             first = u.errors[0]
@@ -370,6 +421,8 @@ def load_launch2(path: str, args: Mapping[str, str], workspace_root: Optional[st
             sc.configs[k] = [(TRUE, v)]
         w.run(u.actions, sc, TRUE, emap)
         _run_timers(w, sc)
+        for fn in list(getattr(w, "post_walk", [])):
+            fn(w)   # e.g. the actions of event handlers, analysed apart
     except Stop:
         f = w.error
         res.error = f.launch_message or f.message
@@ -381,13 +434,21 @@ def load_launch2(path: str, args: Mapping[str, str], workspace_root: Optional[st
     res.declared = {k: shown(v[0][1]) for k, v in w.declared_root.items() if v}
     res.configurations = {k: shown(v[0][1]) for k, v in sc.configs.items()
                           if v and not k.startswith("anon") and isinstance(v[0][1], str)}
+    def node_json(n) -> dict:
+        return {"name": n.name or None, "package": n.package or None, "executable": n.executable or None,
+                "namespace": n.ns, "remaps": [list(r) for r in n.remaps], "params": n.params,
+                "param_files": n.param_files, "kind": n.kind, "source": n.path,
+                "line": n.element.span.start.line + 1}
     for n in w.nodes:
-        if n.condition != TRUE:
+        if n.condition != TRUE or getattr(n, "event", None):
             continue
-        res.nodes.append({"name": n.name or None, "package": n.package or None, "executable": n.executable or None,
-                          "namespace": n.ns, "remaps": [list(r) for r in n.remaps], "params": n.params,
-                          "param_files": n.param_files, "kind": n.kind, "source": n.path,
-                          "line": n.element.span.start.line + 1})
+        res.nodes.append(node_json(n))
+    for rec in getattr(w, "py_events", []):
+        if rec["condition"] != TRUE:
+            continue
+        res.events.append({"event": rec["event"], "target": rec["target"] or None, "source": rec["source"],
+                           "line": rec["line"], "nodes": [node_json(n) for n in rec["nodes"] if n.condition == TRUE],
+                           "not_analysed": rec["not_analysed"]})
     res.executables = w.executables
 
     def inc_tree(incs) -> list:

@@ -440,6 +440,8 @@ def parse_launch_file(text: str, path: str) -> Document:
 # ------------------------------------------------------------------ the shared element model
 
 def substitutions_of(e: Entity) -> list[Subst]:
+    if e.kind == "py":
+        return list(getattr(e, "substs", []))  # the Python front end lists them itself
     out: list[Subst] = []
     for k, a in e.attrs.items():
         if not isinstance(a.value, str) or "$(" not in a.value:

@@ -30,9 +30,12 @@ class IncludeRules:
             inc = IncludeFact(el, shown(f), c, False)
             self.includes.append(inc)
             if UNRESOLVED in f or OPAQUE in f:
+                if self.concrete:
+                    self.decline(el.path, span, "tvl-lsp cannot know which file this include loads", c)
                 el.unresolved = True
                 m = re.search(UNRESOLVED + "([^" + UNRESOLVED + "]*)" + UNRESOLVED, f)
                 inc.package = m.group(1) if m else None
+                self.not_followed(a, el, sc, c, emap)
                 continue
             path = os.path.abspath(f)
             if path in self.stack:
@@ -49,6 +52,8 @@ class IncludeRules:
                 inc.outside = True
                 el.unresolved = True
                 self.fact(INCLUDE_OUTSIDE, outside_message(shown(f), path), el.path, span, c, W)
+                if not self.concrete:
+                    self.not_followed(a, el, sc, c, emap)   # what it sets is unknown, not missing
                 continue
             u = self.unit(path)
             if u is None and not self.concrete:
@@ -56,30 +61,50 @@ class IncludeRules:
                 if src is not None:
                     path = inc.file = src
                     u = self.unit(path)
-            if u is None and path.endswith(".py") and self.concrete:
-                u = Unit(path, None, [], [], python=True)
             if u is None and not self.concrete and not self.in_workspace(path):
                 el.unresolved = True   # e.g. an installed package's file: not on this machine
+                self.not_followed(a, el, sc, c, emap)
+                continue
+            if u is None and not self.concrete and self.exists(path + ".in"):
+                # made by the build from a template (CMake's configure_file): not in the sources (the
+                # concrete load, which runs on the sources as the oracle does, fails on it)
+                self.decline(el.path, span, f"{os.path.basename(path)} is made by the build from "
+                             f"{os.path.basename(path)}.in: tvl-lsp does not know what it will contain", c)
+                el.unresolved = True
+                self.not_followed(a, el, sc, c, emap)
                 continue
             if u is None:
                 ext = _extension(path)
                 err = f"[Errno 2] No such file or directory: '{path}'"
+                if getattr(a, "source_kind", "any") != "any":   # Python's XML/Python...Source: one loader
+                    launch = ("FileNotFoundError", err)
+                else:
+                    launch = ("InvalidLaunchFileError", f"Caught multiple exceptions when trying to load file of "
+                              f"format [{ext}]:\n - FileNotFoundError: {err}\n - FileNotFoundError: {err}")
                 self.fact(INCLUDE_NOT_FOUND, f"the included file {path} does not exist", el.path, span, c,
-                          launch=("InvalidLaunchFileError",
-                                  f"Caught multiple exceptions when trying to load file of format [{ext}]:\n"
-                                  f" - FileNotFoundError: {err}\n - FileNotFoundError: {err}"))
+                          launch=launch)
                 continue
-            if u.python or path.endswith(".py"):
+            kind = getattr(a, "source_kind", "any")   # Python's XMLLaunchDescriptionSource(...) ...
+            if (kind == "py") != path.endswith(".py") and kind != "any":
+                self.decline(el.path, span, f"a {kind.upper()} launch description source of the file "
+                             f"{os.path.basename(path)}: tvl-lsp does not model how launch fails on it", c)
+                if not self.concrete:
+                    sc.opaque = disj([sc.opaque, c])
+                el.unresolved = True
+                self.not_followed(a, el, sc, c, emap)
+                continue
+            if u.python:
+                # a Python launch file whose launch description tvl-lsp cannot know
                 if path not in self.python_includes:
                     self.python_includes.append(path)
+                reason, dpath, dspan = getattr(u, "decline", None) or ("tvl-lsp does not execute it", path, None)
+                where = f" (line {dspan.start.line + 1})" if dspan is not None else ""
+                msg = (f"tvl-lsp cannot analyse the Python launch file {os.path.basename(path)}{where}: {reason}; "
+                       "the nodes it starts and the args it sets are not known")
                 if self.concrete:
-                    self.fact(PYTHON_INCLUDE, f"{path} is a Python launch file: tvl-lsp does not execute it; what "
-                              "it starts and everything after it is not known", el.path, span, c, E,
-                              launch=("NotAnalysed", f"Python launch file not executed: {path}"))
-                self.fact(PYTHON_INCLUDE, f"{os.path.basename(path)} is a Python launch file: tvl-lsp does not "
-                          "execute it, so the nodes it starts and the args it sets are not analysed", el.path, span,
-                          c, I)
-                sc.opaque = disj([sc.opaque, c])
+                    self.fact(PYTHON_INCLUDE, msg, el.path, span, c, E, launch=("NotAnalysed", msg))
+                self.fact(PYTHON_INCLUDE, msg, el.path, span, c, I)
+                self.not_followed(a, el, sc, c, emap)
                 el.unresolved = True
                 inc.followed = False
                 continue
@@ -93,6 +118,16 @@ class IncludeRules:
             inc.followed = True
             el.resolved_file = path
             self.include_one(a, el, sc, c, path, u, emap, inc)
+
+    def not_followed(self, a: A.IncludeA, el: Element, sc: Scope, c: Formula, emap: dict) -> None:
+        """An include whose file is not analysed (outside the workspace, a file name tvl-lsp cannot
+        know ...): launch still sets its args first, and the file may set anything (includes do
+        not scope): after it, a configuration nobody here sets is unknown, not missing."""
+        for ia in a.args:
+            iel = emap.get(id(ia.entity), el)
+            iel.condition = disj([iel.condition, c])
+            self.set_config(sc, self.ev(ia.name, sc, c, iel), self.sure(self.ev(ia.value, sc, c, iel), c), c)
+        sc.opaque = disj([sc.opaque, c])
 
     def include_one(self, a: A.IncludeA, el: Element, sc: Scope, c: Formula, path: str, u: Unit, emap: dict,
                     inc: IncludeFact) -> None:

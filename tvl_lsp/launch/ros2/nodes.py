@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from typing import Optional
 
@@ -21,6 +22,17 @@ from ..model import RemapCase
 
 PAIRWISE_DUPLICATES = 8  # up to this many earlier nodes of a name: one duplicate-node fact per pair
 MAX_RELATED = 64  # related locations listed for a duplicate node
+
+
+@functools.lru_cache(maxsize=64)
+def _valid_yaml(text: str) -> bool:
+    """A substituted parameter file parses as YAML (remembered: the symbolic walk checks the
+    same text once per case and per node)."""
+    try:
+        yamlsafe.safe_load(text)
+        return True
+    except Exception:
+        return False
 
 
 _FAILED = object()  # a parameter value launch fails to type
@@ -147,7 +159,9 @@ class NodeRules:
         if a.ros_args is not None:
             self.ev(a.ros_args, sc, g, el)
         self.typed_respawn(a, el, sc, g)
-        kind = a.tag
+        kind = getattr(a, "kind", None) or a.tag
+        if self.concrete:
+            self.decline_unknown(el, a, okp, ok_names, full_ns, remaps + own)
         for cp, p, x in okp:
             for cn, n in ok_names:
                 for cs, ns in full_ns:
@@ -175,7 +189,7 @@ class NodeRules:
         el.condition = disj([el.condition, cond])
         pkgs = self.ev(comp.package, sc, cond, el)
         self.ev(comp.plugin, sc, cond, el)
-        names = self.ev(comp.name, sc, cond, el)
+        names = self.ev(comp.name, sc, cond, el) if comp.name is not None else [(cond, None)]
         nss = self.ev(comp.namespace, sc, cond, el) if comp.namespace is not None else [(cond, None)]
         base = sc.configs.get("ros_namespace", [])
         remaps = self.list_items(sc, "remaps", cond)
@@ -194,10 +208,13 @@ class NodeRules:
                         if cc == FALSE:
                             continue
                         full_ns = make_absolute(prefix_namespace(b, ns))
-                        full = (full_ns.rstrip("/") if full_ns else "") + "/" + n
+                        full = (full_ns.rstrip("/") if full_ns else "") + "/" + n if n is not None else ""
+                        if self.concrete and (opaque(p) or (n is not None and opaque(full))):
+                            self.decline(el.path, el.tag_span or el.span, "tvl-lsp cannot know the package or "
+                                         "name of this composable node", cc)
                         nf = self.make_node(full, p, "", full_ns, el, cc, remaps + own, "composable_node",
                                             {k: v for k, (c, v) in params.items() if conj([c, cc]) != FALSE}, [])
-                        self.add_node(nf, comp.name, el, full)
+                        self.add_node(nf, comp.name if n is not None else None, el, full)
 
     def make_node(self, full: str, pkg: str, exe: str, ns: Optional[str], el: Element, cc: Formula, remaps: list,
                   kind: str, params: dict, files: list) -> "Node2Fact":
@@ -218,7 +235,28 @@ class NodeRules:
                          ns=shown(ns) if ns is not None else None, kind=kind, params=params, param_files=files,
                          source=el.path)
 
+    def decline_unknown(self, el: Element, a, okp, names, nss, remaps) -> None:
+        """The concrete load: a node whose package, executable, name, namespace or remaps tvl-lsp
+        cannot know is not reported with a made-up value: the load declines there."""
+        what = None
+        if any(p is not None and opaque(p) for _, p, _ in okp):
+            what = "package"
+        elif any(opaque(x) for _, _, x in okp):
+            what = "executable"
+        elif any(n is not None and opaque(n) for _, n in names):
+            what = "name"
+        elif any(ns is not None and opaque(ns) for _, ns in nss):
+            what = "namespace"
+        elif any(opaque(f) or opaque(t) for _, (f, t, _) in remaps):
+            what = "remappings"
+        if what is not None:
+            v = {"package": a.package, "executable": a.executable, "name": a.name,
+                 "namespace": a.namespace}.get(what)
+            span = (v.span() if v is not None else None) or el.tag_span or el.span
+            self.decline(el.path, span, f"tvl-lsp cannot know the {what} of this node", TRUE)
+
     def add_node(self, nf: "Node2Fact", name_value, el: Element, full: str) -> None:
+        nf.event = getattr(self, "event_label", None)
         if full and not opaque(full) and not full.endswith("/"):
             others = self.node_names.get(full, [])
 
@@ -228,7 +266,9 @@ class NodeRules:
                         "the other node with this name")
             msg = (f"two nodes named [{shown(full)}] are started: ros2 launch starts both (it only warns) but "
                    "ROS 2 requires node names to be unique")
-            span = (name_value.span() if name_value is not None else None) or el.tag_span
+            # (the name attribute's value: in a Python file the characters of the name, not its quotes)
+            span = (el.attrs["name"].value_span if "name" in el.attrs else None) or \
+                (name_value.span() if name_value is not None else None) or el.tag_span
             if len(others) <= PAIRWISE_DUPLICATES:
                 for other in others:
                     self.fact(DUPLICATE_NODE, msg, el.path, span, conj([other.condition, nf.condition]), W,
@@ -315,9 +355,7 @@ class NodeRules:
         for cv, out in self.ev(v, sc, c, pel):
             if opaque(out):
                 continue
-            try:
-                yamlsafe.safe_load(out)
-            except Exception:
+            if not _valid_yaml(out):
                 self.fact(INVALID_VALUE, f"the parameter file '{f}' is not valid YAML once its substitutions are "
                           "made", pel.path, span, cv,
                           launch=("SubstitutionFailure", "The substituted parameter file is not a valid yaml file"))
@@ -338,7 +376,12 @@ class NodeRules:
                 # coerce_to_type(value, type), can_be_str=False): YAML that fails, a map, a mixed
                 # list, null, int('abc') ... make ros2 launch fail there
                 plain = S.is_text(v.parts)
+                python = getattr(v, "typed", None) is not None   # a Python file's dict value
                 for cv, s in self.ev(v, sc, cn, pel):
+                    if python:   # launch_ros' evaluate_parameter_dict: YAML, else the text
+                        if not opaque(s):   # (a value tvl-lsp cannot compute is not listed)
+                            out[key] = (cv, s if p.type == "str" or (plain and not v.typed) else _yaml_value(s))
+                        continue
                     if plain or opaque(s):
                         out[key] = (cv, s if p.type == "str" or plain else _yaml_value(s))
                         continue

@@ -18,6 +18,11 @@ from .values import (E, W, CONDITION_NOT_ANALYSABLE, Cases, ENV_NOT_SET, EVAL_ER
                      SUBST_FAILED, Scope, UNDEFINED_ARG, UNRESOLVED, equals, merge, opaque, present, shown, typed_bool)
 
 
+# substitutions another front end adds (the Python one: PathJoinSubstitution, ...): name ->
+# fn(walker, sub, value, scope, condition, element) -> cases
+EXTRA: dict = {}
+
+
 class SubstEval:
     """The substitution part of the walker (mixed into :class:`~.walker.Walker`)."""
 
@@ -54,6 +59,9 @@ class SubstEval:
 
     def sub(self, sub: S.Sub, v: A.Value, sc: Scope, c: Formula, el: Element) -> Cases:
         name = sub.name
+        ext = EXTRA.get(name)
+        if ext is not None:
+            return ext(self, sub, v, sc, c, el)
         span = self.span_of(v, sub, el)
         args = sub.args
         path = el.path

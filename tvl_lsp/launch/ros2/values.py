@@ -59,10 +59,12 @@ INVALID_CHOICE = _reg("invalid-choice", E, "An <arg> value that is not one of it
 INVALID_NODE_NAME = _reg("invalid-node-name", E, "A node name ros2 launch rejects (ROS 2).")
 INVALID_NAMESPACE = _reg("invalid-namespace", E, "A namespace ros2 launch rejects (ROS 2).")
 SUBST_FAILED = _reg("substitution-failed", E, "A $(...) substitution fails when launched (ROS 2).")
-PYTHON_INCLUDE = _reg("python-launch-include", I, "An <include> of a Python launch file, which tvl-lsp does not execute (ROS 2).")
+PYTHON_INCLUDE = _reg("python-launch-include", I, "An include of a Python launch file tvl-lsp cannot analyse (ROS 2).")
 ARG_LEAK = _reg("include-arg-leak", W, "An arg set by an <include> leaks out and changes a later element (ROS 2).")
 PARAM_FILE_NOT_FOUND = _reg("param-file-not-found", W, "A <param from=...> names a file that does not exist (ROS 2).")
 LAUNCH_PARSE = _reg("invalid-launch-file", E, "The ros2 launch command refuses to load the file (ROS 2).")
+NOT_ANALYSABLE = _reg("launch-not-analysable", I, "A part of a launch file tvl-lsp cannot know without running it "
+                      "(the analysis stops there).")
 
 MAX_CASES = 64
 MAX_INCLUDE_DEPTH = 12
@@ -117,6 +119,7 @@ class Node2Fact(NodeFact):
     params: dict = field(default_factory=dict)
     param_files: list = field(default_factory=list)
     source: str = ""
+    event: Optional[str] = None     # started by an event handler (OnProcessExit ...), not by the launch
 
 
 def fvars(f: Formula) -> set[str]:
@@ -158,14 +161,35 @@ def feval(f: Formula, env: Mapping[str, bool], memo: Optional[dict] = None) -> b
     return r
 
 
+def _vars_upto(f: Formula, limit: int) -> Optional[list[str]]:
+    """The sorted variables of ``f``, or None as soon as there are more than ``limit``."""
+    out: set[str] = set()
+    seen: set[int] = set()
+    stack = [f]
+    while stack:
+        g = stack.pop()
+        if id(g) in seen:
+            continue
+        seen.add(id(g))
+        if isinstance(g, Var):
+            out.add(g.name)
+            if len(out) > limit:
+                return None
+        elif isinstance(g, Not):
+            stack.append(g.arg)
+        elif isinstance(g, (And, Or)):
+            stack.extend(g.args)
+    return sorted(out)
+
+
 def satisfiable(f: Formula, limit: int = 14) -> Optional[bool]:
     """True / False by brute force over at most ``limit`` variables; None beyond."""
     if f == FALSE:
         return False
     if f == TRUE:
         return True
-    vs = sorted(fvars(f))
-    if len(vs) > limit:
+    vs = _vars_upto(f, limit)
+    if vs is None:
         return None
     for bits in itertools.product((False, True), repeat=len(vs)):
         if feval(f, dict(zip(vs, bits))):

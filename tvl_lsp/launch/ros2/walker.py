@@ -37,7 +37,7 @@ from .includes import IncludeRules
 from . import coerce as C
 from .nodes import NodeRules
 from .substitutions import SubstEval
-from .values import (E, I, W, declared_in, ARG_LEAK, EXTENSION_TAG, BUDGET, CONDITION_NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
+from .values import (E, I, W, declared_in, ARG_LEAK, EXTENSION_TAG, BUDGET, CONDITION_NOT_ANALYSABLE, NOT_ANALYSABLE, Cases, INVALID_CHOICE, INVALID_CONDITION,
                      INVALID_NAMESPACE, INVALID_VALUE, LaunchFact, MAX_CASES, MAX_VISITS, MAX_WALK_DEPTH, Node2Fact, OPAQUE,
                      PARAM_INVALID,
                      RList,
@@ -169,9 +169,16 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         if path in self.units:
             return self.units[path]
         if path.endswith(".py"):
-            if text is None and not self.exists(path):
-                return None
-            u = Unit(path, None, [], [], python=True)
+            if text is None:
+                text = self.read(path)
+            if text is None:
+                if not self.exists(path):
+                    return None
+                u = Unit(path, None, [], [], python=True)   # outside what the analysis reads
+                u.decline = ("the file is outside the workspace and its packages", path, None)
+            else:
+                from ..ros2py.frontend import load_unit   # the Python front end (never runs the file)
+                u = load_unit(self, path, text)
             self.units[path] = u
             return u
         if text is None:
@@ -292,6 +299,8 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         for c, v in cases:
             if opaque(v):
                 if self.concrete:
+                    self.decline(el.path, span, f"tvl-lsp cannot know the value of this '{cond.kind}' condition, "
+                                 "so whether ros2 launch runs this element", c)
                     ok.append(c)
                     continue
                 # an unknown, the same for every if/unless of that value (they exclude each
@@ -429,6 +438,18 @@ class Walker(SubstEval, NodeRules, IncludeRules):
         elif isinstance(a, A.SimpleA):
             for v in a.values:
                 self.ev(v, sc, cond, el)
+        elif hasattr(a, "walk"):
+            a.walk(self, el, sc, cond, emap)   # an action another front end models (OpaqueFunction ...)
+
+    def decline(self, path: str, span: Span, reason: str, cond: Formula = TRUE) -> None:
+        """tvl-lsp cannot know what follows without running something: the concrete load stops
+        there (saying so, never guessing), the symbolic analysis notes it."""
+        if cond == FALSE:
+            return
+        if self.concrete:
+            self.fact(NOT_ANALYSABLE, reason, path, span, cond, E, launch=("NotAnalysed", reason))
+        else:
+            self.note(NOT_ANALYSABLE, reason, path, span)
 
     # -- lists in the configurations
     def append_list(self, sc: Scope, which: str, items: list, cond: Formula) -> None:

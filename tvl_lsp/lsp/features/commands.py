@@ -138,7 +138,9 @@ def register(ls) -> None:
             rss = int((read_head("/proc/self/statm", 256) or b"").split()[1]) * os.sysconf("SC_PAGE_SIZE")
         except (OSError, ValueError, IndexError):
             pass
+        res = ls.results.get(uri)
         return {"text": doc.text if doc else None, "version": doc.version if doc else None,
+                "phase": res.phase if res else None, "resultVersion": res.version if res else None,
                 "rss": rss, "documents": len(ls.docs), "cache": len(ls.cache),
                 "handlers": len(ls.protocol._request_futures)}
 

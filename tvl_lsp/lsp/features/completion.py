@@ -1,6 +1,9 @@
 """Completion: TVL keywords, feature and attribute names; launch tags and attributes,
 ``$(arg `` → args in scope and features, ``$(find `` → workspace packages.  ROS 2 files
-(XML and YAML): their tags / keys and attributes, ``$(var `` and ``$(find-pkg-share ``."""
+(XML and YAML): their tags / keys and attributes, ``$(var `` and ``$(find-pkg-share ``.  Python
+launch files: argument names in ``LaunchConfiguration('…')`` (and ``context.launch_configurations``),
+the paired model's features without an argument in ``DeclareLaunchArgument('…')``, and the
+included file's arguments as keys of an include's ``launch_arguments``."""
 
 from __future__ import annotations
 
@@ -8,8 +11,8 @@ import re
 
 from lsprotocol import types
 
-from ..convert import from_lsp_position
-from ...base.text import Pos
+from ..convert import from_lsp_position, to_lsp_range
+from ...base.text import Pos, Span
 
 TVL_KEYWORDS = [
     "root", "group", "oneOf", "someOf", "allOf", "opt", "shared", "bool", "int", "real", "enum",
@@ -61,6 +64,8 @@ def register(ls) -> None:
         pos = from_lsp_position(doc.index, params.position, ls.encoding)
         if doc.kind == "tvl":
             items = await tvl_items(ls, doc, pos)
+        elif doc.path.endswith(".py"):
+            items = await python_items(ls, doc, pos)
         else:
             items = await launch_items(ls, doc, pos)
         return types.CompletionList(is_incomplete=False, items=items)
@@ -227,3 +232,132 @@ async def arg_items(ls, doc):
                 seen.add(f.name)
                 items.append(_item(f.name, types.CompletionItemKind.Class, "feature (no <arg> yet)", "2" + f.name))
     return items
+
+
+async def python_items(ls, doc, pos: Pos):
+    """Inside a string literal of a Python launch file: see the module docstring."""
+    from ...launch.ros2py.editing import string_context
+    from ...project import facts as F
+    offset = doc.index.offset(pos)
+    ctx = string_context(doc.text, offset)
+    if ctx is None:
+        return []
+    rng = to_lsp_range(doc.index, Span(doc.index.pos(ctx.start), pos), ls.encoding)
+
+    def item(name, kind, detail, sort):
+        return types.CompletionItem(label=name, kind=kind, detail=detail, sort_text=sort,
+                                    text_edit=types.TextEdit(range=rng, new_text=name))
+    analysis = _last_good(ls, doc.path, ls.parsed_now(doc.path) or await ls.parsed(doc.path))
+    has = hasattr(analysis, "elements")
+    declared = []
+    if has:
+        for e in analysis.elements:
+            if e.path == doc.path and e.include_depth == 0 and e.tag in ("arg", "let") and "name" in e.attrs \
+                    and not (e.parent is not None and e.parent.tag == "include"):
+                declared.append(e)
+    names = list(dict.fromkeys(e.attrs["name"].value for e in declared))
+    features = []
+    for mp in ls.models_for_launch(doc.path):
+        res = await ls.parsed(mp)
+        model = getattr(res, "model", None)
+        if model is not None:
+            features += [(f.name, mp) for f in model.features]
+    if ctx.kind == "config":
+        items = [item(n, types.CompletionItemKind.Variable, "launch argument", "1" + n) for n in names]
+        items += [item(f, types.CompletionItemKind.Class, "feature (no DeclareLaunchArgument yet)", "2" + f)
+                  for f, _ in dict.fromkeys(features) if f not in names]
+        return items
+    if ctx.kind == "declare":
+        import os
+        return [item(f, types.CompletionItemKind.Class, f"feature of {os.path.basename(mp)}", f"{i:05d}")
+                for i, (f, mp) in enumerate(dict.fromkeys(features)) if f not in names]
+    if ctx.kind == "key" and has:
+        return await _include_key_items(ls, doc, analysis, ctx, item)
+    return []
+
+
+_LAUNCH_NAME = re.compile(r"""["']([\w.\-]+(?:[._]launch\.(?:py|xml|yaml|yml)))["']""")
+_PACKAGE_WORD = re.compile(r"""["']([A-Za-z0-9][\w\-]+)["']""")
+_TYPED_KEY = re.compile(r"""[({,]\s*["']([\w/\-.]+)["']\s*[,:]""")
+
+
+def _typed_include(ls, doc, ctx):
+    """(the workspace launch file the text of an include being typed names, the keys typed
+    already): the launch file name written in it (a package named in it, or in the file,
+    decides between files of that name)."""
+    import os
+    segment = doc.text[ctx.include_at:ctx.start]
+    names = _LAUNCH_NAME.findall(segment)
+    if not names:
+        return None, set()
+    try:
+        ws = ls.workspace_model(doc.path)
+    except Exception:
+        return None, set()
+    cands = [lf for lf in ws.files.launches if os.path.basename(lf) == names[-1]]
+    if len(cands) > 1:
+        pkgs = set(_PACKAGE_WORD.findall(segment)) | set(_PACKAGE_WORD.findall(doc.text))
+        inpkg = [lf for lf in cands if ws.package_of(lf) in pkgs]
+        cands = inpkg or cands
+    if len(cands) != 1:
+        return None, set()
+    return cands[0], set(_TYPED_KEY.findall(segment))
+
+
+def _last_good(ls, path: str, analysis):
+    """``analysis``, or -- while the text does not parse (it is being typed: an open string,
+    an unclosed call) -- the last analysis of the file that did."""
+    if analysis is None or any(d.code == "python-syntax" for d in getattr(analysis, "diagnostics", ())):
+        return ls.good_parsed.get(path, analysis)
+    return analysis
+
+
+async def _include_key_items(ls, doc, analysis, ctx, item):
+    """The arguments of the file the include around the cursor includes (those not passed yet)."""
+    import os
+    from ...project import facts as F
+    offset = doc.index.offset
+    includes = [e for e in F.own_elements(analysis, doc.path) if e.tag == "include" and F.included_file(e)]
+    cursor = ctx.start
+    inc = None
+    around = [e for e in includes if offset(e.span.start) <= cursor <= offset(e.span.end)]
+    if around:
+        inc = max(around, key=lambda e: offset(e.span.start))
+    else:
+        # a dict of arguments made apart from the include (launch_arguments=args.items()): the
+        # include whose passed arguments are written inside these brackets
+        after = [(offset(c.attrs["name"].value_span.start), e) for e in includes for c in e.children
+                 if c.tag == "arg" and "name" in c.attrs and offset(c.attrs["name"].value_span.start) > ctx.bracket]
+        if after:
+            first, inc = min(after, key=lambda x: x[0])
+            from ...launch.ros2py.editing import string_context
+            there = string_context(doc.text, first)
+            if there is None or there.bracket != ctx.bracket:
+                inc = None  # (no argument of an include is written in these brackets)
+    if inc is not None:
+        target = F.included_file(inc)
+        passed = {c.attrs["name"].value for c in inc.children if c.tag == "arg" and "name" in c.attrs
+                  and offset(c.attrs["name"].value_span.start) != ctx.start}
+    elif ctx.include_at is not None:
+        # an include being typed (not analysed yet): the launch file its text names
+        target, passed = _typed_include(ls, doc, ctx)
+    else:
+        return []
+    if target is None:
+        return []
+    included = await ls.parsed(target)
+    if included is None or not hasattr(included, "elements"):
+        return []
+    out = []
+    seen = set()
+    for e in F.own_elements(included, target):
+        if e.tag != "arg" or "name" not in e.attrs or (e.parent is not None and e.parent.tag == "include"):
+            continue
+        n = e.attrs["name"].value
+        if n in seen or n in passed:
+            continue
+        seen.add(n)
+        default = f" (default `{e.attrs['default'].value}`)" if "default" in e.attrs else " (no default)"
+        out.append(item(n, types.CompletionItemKind.Variable, f"argument of {os.path.basename(target)}{default}",
+                        f"{len(out):05d}"))
+    return out

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Optional
 
 from lsprotocol import types
 
@@ -109,6 +110,10 @@ async def paired_feature(ls, launch_path: str, name: str):
     return None, None
 
 
+def _py(path: str) -> bool:
+    return path.endswith(".py")
+
+
 def _arg_markdown(ls, decls) -> list[str]:
     lines = []
     for e in decls:
@@ -122,71 +127,62 @@ def _arg_markdown(ls, decls) -> list[str]:
             bits.append("no value: it must be set by the includer or on the command line")
         where = f"{_rel(ls, e.path)}:{e.span.start}"
         cond = "" if str(e.condition) == "true" else f" when `{e.condition}`"
-        lines.append(f"- `<arg name=\"{a['name'].value}\">` at {where}: " + ", ".join(bits) + cond)
-        if "doc" in a:
-            lines.append(f"  - {a['doc'].value}")
+        decl = f"`DeclareLaunchArgument('{a['name'].value}')`" if _py(e.path) else f"`<arg name=\"{a['name'].value}\">`"
+        lines.append(f"- {decl} at {where}: " + ", ".join(bits) + cond)
+        for key in ("doc", "description"):
+            if key in a:
+                lines.append(f"  - {a[key].value}")
     return lines
 
 
-async def arg_markdown(ls, doc, analysis, name: str) -> str:
+async def arg_markdown(ls, doc, analysis, name: str, owner: Optional[str] = None) -> str:
+    """The hover of the arg ``name`` of the launch file ``owner`` (default: the document's)."""
+    owner = owner or doc.path
     lines = []
-    mp, f = await paired_feature(ls, doc.path, name)
+    mp, f = await paired_feature(ls, owner, name)
     if f is not None:
         facts = await ls.model_facts(mp, wait=HOVER_WAIT)
         lines.append(feature_markdown(ls, f, facts))
         lines.append("")
         lines.append(f"feature of {_rel(ls, mp)}")
         lines.append("")
-    decls = F.arg_decls(analysis, doc.path, name)
+    if owner != doc.path:
+        analysis = await ls.parsed(owner)
+    decls = F.arg_decls(analysis, owner, name) if analysis is not None and hasattr(analysis, "elements") else []
+    decls = [e for e in decls if e.parent is None or e.parent.tag != "include"]
+    word = "argument" if _py(owner) else "arg"
     if decls:
-        lines.append(f"**arg** `{name}`")
+        lines.append(f"**{word}** `{name}`" + ("" if owner == doc.path else f" of {_rel(ls, owner)}"))
         lines.extend(_arg_markdown(ls, decls))
-        setters = await arg_setters(ls, doc.path, name)
+        setters = await arg_setters(ls, owner, name)
         if setters:
             lines.append("")
             lines.append("set by the files that include this one:")
             lines.extend(setters)
     elif f is None:
-        lines.append(f"**arg** `{name}`: not declared in this file")
+        lines.append(f"**{word}** `{name}`: not declared in " + ("this file" if owner == doc.path else _rel(ls, owner)))
     return "\n".join(lines)
-
-
-MAX_SETTER_FILES = 40
 
 
 async def arg_setters(ls, launch_path: str, name: str) -> list[str]:
     """Where ``name`` is set for ``launch_path``: the ``<arg>`` children of the workspace's
-    ``<include>`` tags that include it (e.g. the configuration launch files)."""
-    try:
-        ws = ls.workspace_model(launch_path)
-    except Exception:
-        return []
-    base = os.path.basename(launch_path)
-    target = os.path.normpath(launch_path)
+    ``<include>`` tags that include it (e.g. the configuration launch files) and the
+    ``launch_arguments`` of Python includes."""
+    from .navigation import includers
     out: list[str] = []
-    n = 0
-    for lf in ws.files.launches:
-        if os.path.normpath(lf) == target:
-            continue
-        text = ls.read_file(lf) or ""
-        if base not in text or name not in text:
-            continue
-        n += 1
-        if n > MAX_SETTER_FILES:
-            break
-        analysis = await ls.parsed(lf)
+    for lf, analysis in await includers(ls, launch_path, name):
+        target = os.path.normpath(launch_path)
         for inc in getattr(analysis, "includes", None) or []:
             if not inc.file or os.path.normpath(inc.file) != target:
                 continue
             el = inc.element
-            where = f"{_rel(ls, lf)}:{el.span.start}"
             if "pass_all_args" in el.attrs and el.attrs["pass_all_args"].value.lower() in ("true", "1"):
-                out.append(f"- {where}: passes all its args")
-            for c in el.children:
-                if c.tag == "arg" and "name" in c.attrs and c.attrs["name"].value == name:
-                    v = c.attrs["value"].value if "value" in c.attrs else \
-                        c.attrs["default"].value if "default" in c.attrs else "(no value)"
-                    out.append(f"- {_rel(ls, lf)}:{c.span.start}: `{v}`")
+                out.append(f"- {_rel(ls, lf)}:{el.span.start}: passes all its args")
+        for c in F.include_args(analysis, lf, launch_path, name):
+            v = c.attrs["value"].value if "value" in c.attrs else \
+                c.attrs["default"].value if "default" in c.attrs else "(no value)"
+            cond = "" if str(c.condition) == "true" else f" when `{c.condition}`"
+            out.append(f"- {_rel(ls, lf)}:{c.span.start}: `{v}`{cond}")
     return out[:20]
 
 
@@ -211,13 +207,41 @@ async def launch_hover(ls, doc, pos):
     if el is None:
         return None, None
     if el.tag == "arg" and "name" in el.attrs and el.attrs["name"].value_span.contains(pos):
-        return await arg_markdown(ls, doc, analysis, el.attrs["name"].value), el.attrs["name"].value_span
+        name = el.attrs["name"].value
+        if el.parent is not None and el.parent.tag == "include":
+            return await include_arg_markdown(ls, doc, analysis, el), el.attrs["name"].value_span
+        return await arg_markdown(ls, doc, analysis, name), el.attrs["name"].value_span
     return await element_markdown(ls, doc, el), el.tag_span or el.span
+
+
+async def include_arg_markdown(ls, doc, analysis, el) -> str:
+    """An arg passed to an include: the included file's arg, and the value passed here."""
+    name = el.attrs["name"].value
+    target = F.included_file(el.parent)
+    v = el.attrs["value"].value if "value" in el.attrs else "(no value)"
+    cond = "" if str(el.condition) == "true" else f" when `{el.condition}`"
+    here = f"passed to the included file: `{v}`{cond}"
+    if target is None:
+        return f"**{'argument' if _py(doc.path) else 'arg'}** `{name}` {here} (tvl-lsp does not know which file it includes)"
+    body = await arg_markdown(ls, doc, analysis, name, owner=target)
+    return f"{body}\n\n{here}"
+
+
+def python_class(el, text: str) -> str:
+    """The launch class of a Python launch file's element as the file writes it (``Node``,
+    ``launch_ros.actions.Node`` -> ``Node``), from its source."""
+    import re
+    from ...base.text import LineIndex
+    idx = LineIndex(text)
+    m = re.match(r"\s*([A-Za-z_][\w.]*)\s*\(", F.text_at(idx, el.span)[:200])
+    from ...analysis.crosscheck import PYTHON_CLASSES
+    return m.group(1).rsplit(".", 1)[-1] if m else PYTHON_CLASSES.get(el.tag, el.tag)
 
 
 async def element_markdown(ls, doc, el) -> str:
     name = el.attrs.get("name").value if "name" in el.attrs else None
-    head = f"**<{el.tag}>**" + (f" `{name}`" if name else "")
+    tag = python_class(el, doc.text) if _py(el.path) and el.path == doc.path else f"<{el.tag}>"
+    head = f"**{tag}**" + (f" `{name}`" if name else "")
     cond = el.condition
     text = str(cond)
     lines = [head, ""]

@@ -44,7 +44,8 @@ def register(ls) -> None:
                             ("**/*.tvl", "**/*.uvl", "**/*.dimacs", "**/*.launch", "**/*.launch.xml", "**/*.test",
                              "**/*_launch.xml",
                              "**/package.xml", "**/*.yaml", "**/*.yml",
-                             # the nodes' sources (the computation graph reads them)
+                             # the nodes' sources (the computation graph reads them), and the ROS 2
+                             # Python launch files among them
                              "**/*.{cpp,cc,cxx,h,hpp,hh,py}", "**/CMakeLists.txt", "**/setup.cfg")]))]))
             except Exception:  # the client said no: fine
                 log.debug("watched files registration refused")
@@ -141,6 +142,7 @@ def register(ls) -> None:
         ls.published.pop(uri, None)
         if doc is not None:
             ls.parsed_cache.pop(doc.path, None)
+            ls.good_parsed.pop(doc.path, None)
         ls.clear(uri)
         if doc is not None:
             ls.recheck_dependents(doc.path)  # they now see the disk text

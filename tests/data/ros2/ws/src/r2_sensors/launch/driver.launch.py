@@ -1,4 +1,4 @@
-# A Python launch file: tvl-lsp never executes it (it is code).
+# A Python launch file: tvl-lsp interprets it (never runs it); the oracle runs it with --allow-python.
 from launch import LaunchDescription
 from launch_ros.actions import Node
 
