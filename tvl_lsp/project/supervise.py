@@ -156,6 +156,7 @@ class _Worker:
 
     def assign(self, index: int, unit) -> None:
         self.index, self.unit, self.left, self.got, self.current = index, unit, _files(unit), [], None
+        self.stuck_since = None
         self.room0 = self.room = room_of(self.proc.pid)
         self.conn.send(unit)
 
