@@ -20,8 +20,6 @@ import textwrap
 
 import pytest
 
-pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="fork, /proc and prlimit (Linux)")
-
 # The parse of every model named big*.tvl grows a chain of tuples (that outlives it) until an
 # allocation fails, inside a `with` block far enough into its function (past offset 256) for
 # the interpreter to need a new int to unwind to it: at a bare limit CPython 3.11 spins there
