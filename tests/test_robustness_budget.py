@@ -106,8 +106,9 @@ def test_no_budget_means_no_limit_and_usage_errors_are_refused(tmp_path):
         assert q.returncode == 2 and "must be" in q.stderr, (bad, q.stderr)
 
 
-@pytest.mark.slow  # 4 s, and it hangs about one run in six at the memory cap (CPython 3.11 retries a failed
-# allocation while unwinding to a `with` handler forever): left to CI's slow stage until fixed
+@pytest.mark.slow  # 4 s (it hung about one run in six at the memory cap, CPython 3.11 retrying a failed
+# allocation while unwinding to a `with` handler for ever, until --check's workers were watched:
+# tests/test_robustness_memcap.py makes that happen every time)
 def test_running_out_of_memory_is_reported_not_a_crash(tmp_path):
     """Past the memory budget an allocation fails; the check ends with the budget error.  Python
     needs memory to unwind: without the reserve released first it aborted about one run in two."""

@@ -10,7 +10,9 @@ the rest of the workspace is still checked.
 The budget needs the main thread (signals are delivered there); elsewhere the check runs
 without it.  :func:`cap_memory` sets the process's data-segment limit (``RLIMIT_DATA``) so that
 an allocation past it raises ``MemoryError`` instead of exhausting the machine; the
-``--check`` command and the server's check workers call it once.
+``--check`` command calls it once, and runs the checks in worker processes it watches
+(:mod:`.supervise`): at the limit itself CPython 3.11 can spin for ever and the C++ solvers
+abort, which no code in the process can recover from.
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ MEMORY_BYTES = 3 * 1024 ** 3  # per process, data segment
 # pathological file (a hard SAT instance, a model far beyond any real one) stops there
 CHECK_CPU_SECONDS = 4.0
 CHECK_MEMORY_BYTES = 880 * 1024 ** 2
+MEMORY_WHAT = "more memory than it may use"  # (the ``what`` of the memory budget's error)
 
 T = TypeVar("T")
 
@@ -144,6 +147,23 @@ def _reserve():
         return None
 
 
+def out_of_memory(exc: BaseException) -> bool:
+    """Whether ``exc`` is this process running out of its memory budget: a ``MemoryError``, or
+    the ``SystemError`` CPython raises in its place ("returned NULL without setting an
+    exception") when it had no memory left to create the ``MemoryError``, while the data segment
+    is within :data:`RESERVE_BYTES` (plus as much again) of its limit."""
+    if isinstance(exc, MemoryError):
+        return True
+    if not isinstance(exc, SystemError) or "without setting an exception" not in str(exc):
+        return False
+    try:
+        import resource
+        soft = resource.getrlimit(resource.RLIMIT_DATA)[0]
+    except (ImportError, ValueError, OSError):
+        return False
+    return soft != resource.RLIM_INFINITY and soft - _data_in_use() < 2 * RESERVE_BYTES
+
+
 def remaining() -> Optional[float]:
     """CPU seconds left to the current :func:`limited` block on this thread (None: no limit)."""
     from ..analysis.sat import remaining as _remaining
@@ -179,7 +199,7 @@ def limited(path: str, run: Callable[[], list], seconds: Optional[float] = CPU_S
                 _cpu_budget(seconds):
             return guarded()
     except (MemoryError, BudgetExceeded, SolverInterrupted) as exc:
-        what = "more memory than it may use" if isinstance(exc, MemoryError) else exc.what
+        what = MEMORY_WHAT if isinstance(exc, MemoryError) else exc.what
         if keep is not None:
             keep.append(exc)
     finally:

@@ -105,10 +105,14 @@ def _unreadable(path: str) -> Optional[Diagnostic]:
 
 def _internal(path: str, msg: str) -> Diagnostic:
     """An ``internal-error`` for a failure being handled; a ``MemoryError`` is not a bug but the
-    file's memory budget, so it is raised again (:func:`budget.limited` reports it)."""
+    file's memory budget, so it is raised again (:func:`budget.limited` reports it), and so is
+    the ``SystemError`` that stands for one at the memory limit (:func:`budget.out_of_memory`)."""
     import sys
-    if isinstance(sys.exc_info()[1], MemoryError):
-        raise sys.exc_info()[1]
+    exc = sys.exc_info()[1]
+    if isinstance(exc, MemoryError):
+        raise exc
+    if exc is not None and budget.out_of_memory(exc):
+        raise MemoryError() from exc
     from ..base.text import Pos, Span
     return Diagnostic("internal-error", Severity.ERROR, path, Span(Pos(0, 0), Pos(0, 0)), msg)
 
@@ -318,7 +322,14 @@ KEEP_LAST = False
 _KEPT: list = []
 
 
-def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnostic]:
+def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None,
+              on_file: Optional[Callable[[str, Optional[list]], None]] = None) -> list[Diagnostic]:
+    """Every diagnostic of a unit's files.  ``on_file(path, None)`` is called as the check of
+    each of them starts, ``on_file(path, diagnostics)`` as it ends (the supervisor of
+    :mod:`.supervise` follows a worker's progress so)."""
+    def step(path: str, diags: Optional[list]) -> None:
+        if on_file is not None:
+            on_file(path, diags)
     if _KEPT:
         import gc
         _KEPT.clear()
@@ -337,17 +348,23 @@ def _run_unit(unit: _Unit, read_file: Optional[ReadFile] = None) -> list[Diagnos
                     return info.diagnostics
                 d = _unreadable(unit.model)
                 return [d] if d is not None else []
-            out += budget.limited(unit.model, model_check, unit.cpu_budget, progress,
-                                  keep=_KEPT if KEEP_LAST else None)
+            step(unit.model, None)
+            got = budget.limited(unit.model, model_check, unit.cpu_budget, progress,
+                                 keep=_KEPT if KEEP_LAST else None)
+            out += got
+            step(unit.model, got)
         hints = {lf: (h, c) for lf, h, c in unit.hints}
         for lf, pairings, root in unit.launches:
             h, c = hints.get(lf, (None, None))
+            step(lf, None)
             try:
-                out += budget.limited(lf, lambda: check_launch(lf, None, pairings, root, read_file, models,
-                                                               unit.timeout, h, c, partial=lf in unit.partial),
-                                      unit.cpu_budget, keep=_KEPT if KEEP_LAST else None)
+                got = budget.limited(lf, lambda: check_launch(lf, None, pairings, root, read_file, models,
+                                                              unit.timeout, h, c, partial=lf in unit.partial),
+                                     unit.cpu_budget, keep=_KEPT if KEEP_LAST else None)
             except Exception as exc:
-                out.append(_internal(lf, f"check failed: {exc!r}"))
+                got = [_internal(lf, f"check failed: {exc!r}")]
+            out += got
+            step(lf, got)
     except Exception as exc:
         out.append(_internal(unit.model or "", f"check failed: {exc!r}"))
     if KEEP_LAST:
@@ -487,9 +504,13 @@ def plan(paths: Sequence[str], read_file: Optional[ReadFile] = None,
 
 
 def check_paths(paths: Sequence[str], read_file: Optional[ReadFile] = None, jobs: Optional[int] = None,
-                timeout: Optional[float] = 10.0, cpu_budget: Optional[float] = None) -> list[Diagnostic]:
+                timeout: Optional[float] = 10.0, cpu_budget: Optional[float] = None,
+                supervise: bool = False) -> list[Diagnostic]:
     """Check every model, launch file and HAROS project file under ``paths``; ``cpu_budget``:
-    CPU seconds per file (default ``budget.CPU_SECONDS``; 0: none)."""
+    CPU seconds per file (default ``budget.CPU_SECONDS``; 0: none).  ``supervise`` (the
+    ``--check`` command): the units are checked in worker processes that it watches
+    (:mod:`.supervise`: a file's check that reaches the memory limit cannot hang or crash the
+    command), even with one job."""
     paths = [norm(p) for p in (paths or ["."])]
     units, out, nfiles = plan(paths, read_file, timeout)
     if cpu_budget is not None:
@@ -499,12 +520,18 @@ def check_paths(paths: Sequence[str], read_file: Optional[ReadFile] = None, jobs
     if jobs is None:
         jobs = os.cpu_count() or 1
     jobs = max(1, min(jobs, len(units)))
-    if read_file is not None or jobs == 1 or (auto and nfiles < PARALLEL_MIN_FILES):
+    if auto and nfiles < PARALLEL_MIN_FILES:
+        jobs = 1
+    # heaviest first (models with many launch files), results merged in submission order
+    order = sorted(range(len(units)), key=lambda i: -len(units[i].launches) - (4 if units[i].model else 0))
+    from . import supervise as sv
+    if supervise and read_file is None and units and sv.available():
+        for got in sv.run(units, jobs, _run_unit, order):
+            out += got
+    elif read_file is not None or jobs == 1:
         for u in units:
             out += _run_unit(u, read_file)
     else:
-        # heaviest first (models with many launch files), results merged in submission order
-        order = sorted(range(len(units)), key=lambda i: -len(units[i].launches) - (4 if units[i].model else 0))
         results: dict[int, list[Diagnostic]] = {}
         from ..base.children import watch_parent  # (the workers die with this process)
         from ..base.pools import kill_pool

@@ -163,7 +163,7 @@ def main(argv: Optional[list[str]] = None) -> int:
         memory = CHECK_MEMORY_BYTES if ns.memory is None else ns.memory * 1024 ** 2
         seconds = CHECK_CPU_SECONDS if ns.budget is None else (ns.budget if ns.budget < 1e6 else 0)
         with cap_memory(memory):  # past it an allocation fails and that file gets analysis-budget-exceeded
-            diags = check.check_paths(paths, jobs=ns.jobs, cpu_budget=seconds)
+            diags = check.check_paths(paths, jobs=ns.jobs, cpu_budget=seconds, supervise=True)
         if select:
             diags = [d for d in diags if d.code in select]
         if ignore:
