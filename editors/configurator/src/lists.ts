@@ -5,12 +5,16 @@ import { el } from './format';
 import type { Page } from './page';
 import { statusOf } from './model';
 import type { Problem } from './types';
-import { locLink } from './ui';
+import { locLink, redraw } from './ui';
 
 const PROBLEMS_SHOWN = 200;
 let problemsKey = '';
 
 export function renderProblems(page: Page, force = true): void {
+  redraw('problems', () => drawProblems(page, force));
+}
+
+function drawProblems(page: Page, force: boolean): void {
   const box = document.getElementById('problems') as HTMLElement | null;
   if (!box) {
     return;
@@ -80,12 +84,24 @@ export function renderProblems(page: Page, force = true): void {
 }
 
 export function renderDecisions(page: Page): void {
+  redraw('decisions', () => drawDecisions(page));
+}
+
+function drawDecisions(page: Page): void {
   const box = document.getElementById('decisions') as HTMLElement | null;
   if (!box) {
     return;
   }
   const s = page.state;
   const entries = Object.entries(s.decisions);
+  // an answer that changes nothing here (counts, the problems, a refusal) leaves the list, its
+  // buttons and the focus alone
+  const key = JSON.stringify([page.model.model, entries, Object.keys(s.implied).length, s.open.length, s.complete,
+    page.history.length > 0]);
+  if (box.dataset.drawn === key) {
+    return;
+  }
+  box.dataset.drawn = key;
   const tab = document.getElementById('tab-decisions');
   if (tab) tab.textContent = `Decisions (${entries.length})`;
   const undoLast = el('button', { class: 'small', id: 'undo-last', title: 'go back to the decisions before the last change' }, 'Undo last');
@@ -94,7 +110,12 @@ export function renderDecisions(page: Page): void {
     const prev = page.history.pop();
     if (prev) {
       // 'undo' does not push onto the history
-      void page.setDecisions(prev, 'undo').then((ok) => { if (!ok) page.history.push(prev); });
+      void page.setDecisions(prev, 'undo').then((ok) => {
+        if (!ok) {
+          page.history.push(prev);
+          renderDecisions(page);
+        }
+      });
     }
   });
   const resetAll = el('button', { class: 'small', title: 'forget every decision' }, 'Undo all');
