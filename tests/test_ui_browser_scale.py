@@ -361,11 +361,13 @@ def test_an_unpaired_model_chooses_its_launch_file(browser, request, ws):
 
 
 def test_counts_give_up_and_the_page_works_on(browser, request, tmp_path):
-    from model_gen import generated_model
+    # a model d4 cannot compile in its budget however late its thread looks: one it compiles in
+    # 0.2 s was counted on a loaded machine (d4 had ended when the starved thread next polled)
+    from model_gen import hard_model
     d = tmp_path / "ws" / "src" / "big" / "launch"
     d.mkdir(parents=True)
     (tmp_path / "ws" / ".catkin_workspace").write_text("")
-    (d / "big.tvl").write_text(generated_model(600))
+    (d / "big.tvl").write_text(hard_model())
     ui = start(d / "big.tvl", "--count-budget", "0.01", env=dict(os.environ, TVL_LSP_CACHE_DIR=str(tmp_path / "cache")))
     try:
         with page_at(browser, request) as pg:
