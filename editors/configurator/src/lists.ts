@@ -8,10 +8,17 @@ import type { Problem } from './types';
 import { locLink, redraw } from './ui';
 
 const PROBLEMS_SHOWN = 200;
-let problemsKey = '';
+
+// a forced redraw waiting for a release stays forced when an unforced one replaces it
+let forced = false;
 
 export function renderProblems(page: Page, force = true): void {
-  redraw('problems', () => drawProblems(page, force));
+  forced = forced || force;
+  redraw('problems', () => {
+    const f = forced;
+    forced = false;
+    drawProblems(page, f);
+  });
 }
 
 function drawProblems(page: Page, force: boolean): void {
@@ -22,10 +29,10 @@ function drawProblems(page: Page, force: boolean): void {
   // a click that changes no problem's status does not redraw the list (hundreds on big models)
   const key = JSON.stringify([page.model.model, page.problems?.length ?? -1, page.problemStatus, page.showRuledOut,
     page.showAllProblems]);
-  if (!force && key === problemsKey) {
+  if (!force && key === box.dataset.drawn) {
     return;
   }
-  problemsKey = key;
+  box.dataset.drawn = key;
   const tab = document.getElementById('tab-problems');
   if (page.problems === null) {
     if (tab) tab.textContent = 'Problems …';
