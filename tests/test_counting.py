@@ -141,7 +141,11 @@ def test_core_and_dead_from_counts_match_the_sat_analysis(name):
 
 def test_per_feature_counts_agree_with_ddnnife():
     a = load("cards.tvl")
-    comp = a.counter.circuit()
+    enc = a.encoding
+    # ddnnife reads the d-DNNF of the CNF itself; the counts compared are the service's (of the
+    # reduced CNF, lifted back)
+    raw = S.CNFCounter(enc.nvars, enc.clauses(), enc.n_features, reduce=False)
+    comp = raw.circuit()
     import ddnnife
     m = ddnnife.Ddnnf.from_file(comp.path, a.encoding.nvars).as_mut()
     n = a.encoding.n_features

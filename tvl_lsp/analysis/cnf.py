@@ -10,6 +10,9 @@ from typing import Iterable, Optional
 from ..base.text import Span
 from .distribute import Lit
 
+# at-most-one constraints over up to this many literals are pairwise clauses (no counter)
+PAIRWISE_MAX = 128
+
 
 @dataclass(eq=False, slots=True)
 class Element:
@@ -95,7 +98,10 @@ class _Builder:
             return []
         if k <= 0:
             return [[-x] for x in lits]
-        if k == 1 and n <= 5:
+        if k == 1 and n <= PAIRWISE_MAX:
+            # pairwise: more clauses than a counter but no variable; d4's decomposition (its
+            # time grows with the variables) and the solvers' propagation both prefer it, and
+            # the DIMACS exports of feature models are written so
             return [[-lits[i], -lits[j]] for i in range(n) for j in range(i + 1, n)]
         out: list[list[int]] = []
         # sequential counter: x_i may not be selected once k of x_1..x_{i-1} are

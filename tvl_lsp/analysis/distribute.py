@@ -9,6 +9,9 @@ from typing import Optional, Union
 from ..tvl import model as M
 
 Lit = Union[int, bool]  # a literal, or a folded constant
+# a disjunct of a distributed disjunction may have this many clauses (the result stays within
+# the caller's limit): absorption can make a long disjunct short
+PRODUCT_ITEM_MAX = 256
 
 
 class NotEncodable(Exception):
@@ -103,8 +106,10 @@ class DistributeMixin:
         """The CNF of a disjunction of ``(expr, pos)`` items."""
         base: list[Lit] = []
         multi: list[list[list[Lit]]] = []
+        # a disjunct may be bigger than the result (see _absorb)
+        inner = max(limit, PRODUCT_ITEM_MAX)
         for p, s in items:
-            c = self._cnf(p, s, ctx, limit)
+            c = self._cnf(p, s, ctx, inner)
             if c is None:
                 return None
             if not c:
@@ -113,9 +118,97 @@ class DistributeMixin:
                 base.extend(c[0])
             else:
                 multi.append(c)
+        if multi:
+            multi = _absorb(multi, base)
+            if multi is None:
+                return []
+        if _tautology(base):
+            return []
+        # distributed clause by clause, the tautologies dropped as they appear: a KConfig
+        # export's "A & B1 | A & B2 | !A | !B3" is one clause (!A | B1 | B2 | !B3), not 2^k
         acc = [base]
         for c in multi:
-            acc = [a + b for a in acc for b in c]
+            nxt = []
+            for a in acc:
+                sa = {x for x in a if type(x) is int}
+                for b in c:
+                    if any(type(x) is int and -x in sa for x in b):
+                        continue
+                    nxt.append(a + [x for x in b if x not in sa])
+                    if len(nxt) > inner:
+                        return None
+            acc = _minimal(nxt)
             if len(acc) > limit:
                 return None
+            if not acc:
+                return []
         return acc
+
+
+def _absorb(multi: list[list[list[Lit]]], base: list[Lit]) -> Optional[list[list[list[Lit]]]]:
+    """The disjuncts (each a CNF) of a disjunction with the clauses absorbed by another
+    disjunct dropped: ``(A & K) | D | ...`` is ``A | D | ...`` when ``!K`` is ``D`` (``K`` a
+    clause, ``D`` a conjunction of literals or one literal of ``base``).  Applied one disjunct
+    after the other, each against the disjunction as it stands, so every step keeps it
+    equivalent.  A KConfig export's "the first of A1..An selected" (``R & A1 | !(R & A1) & R
+    & A2 | ...``: 228 KB in embtoolkit.uvl, 202 Tseitin variables) becomes ``R & A1 | R & A2 |
+    ...``.  Single-clause disjuncts move to ``base``; None: a disjunct became true."""
+    from collections import Counter
+
+    def pure(c) -> Optional[frozenset]:
+        if all(len(k) == 1 and type(k[0]) is int for k in c):
+            return frozenset(k[0] for k in c)
+        return None
+
+    keys = Counter(frozenset([x]) for x in base if type(x) is int)
+    for c in multi:
+        k = pure(c)
+        if k is not None:
+            keys[k] += 1
+    out = []
+    for c in multi:
+        own = pure(c)
+        if own is not None:
+            out.append(c)
+            continue
+        kept = []
+        for k in c:
+            if len(k) > 1 and all(type(x) is int for x in k) and keys.get(frozenset(-x for x in k)):
+                continue
+            if len(k) == 1 and type(k[0]) is int and keys.get(frozenset([-k[0]])):
+                continue
+            kept.append(k)
+        if not kept:
+            return None
+        if len(kept) == 1:
+            base.extend(kept[0])
+            for x in kept[0]:
+                if type(x) is int:
+                    keys[frozenset([x])] += 1
+            continue
+        k = pure(kept)
+        if k is not None:
+            keys[k] += 1
+        out.append(kept)
+    return out
+
+
+def _minimal(clauses: list[list[Lit]]) -> list[list[Lit]]:
+    """The clauses without those another one subsumes (and without repeats)."""
+    if len(clauses) < 2:
+        return clauses
+    order = sorted(range(len(clauses)), key=lambda i: len(clauses[i]))
+    kept: set[int] = set()
+    sets: list[set] = []
+    for i in order:
+        sc = set(clauses[i])
+        if any(s <= sc for s in sets):
+            continue
+        kept.add(i)
+        sets.append(sc)
+    return [c for i, c in enumerate(clauses) if i in kept]  # (in their order)
+
+
+def _tautology(clause: list[Lit]) -> bool:
+    ints = {x for x in clause if type(x) is int}
+    return any(-x in ints for x in ints)

@@ -424,6 +424,21 @@ class Encoding(DistributeMixin):
                     if c is not None:
                         out.append(c)
                 return
+            op = _ALIAS.get(e.op, e.op)
+            if (op == "||" and pos) or (op == "&&" and not pos):
+                # a disjunction with a long conjunction among its parts ("(C1 & .. & Cn) | S",
+                # KConfig exports): the conjunction asserted with the other parts in the
+                # prefix, n clauses, instead of a Tseitin variable for it and each Ci
+                inner = "&&" if pos else "||"
+                parts = _chain(e, op)
+                width = [len(_chain(x, inner)) if isinstance(x, M.Binary) else 1 for x in parts]
+                i = max(range(len(parts)), key=width.__getitem__)
+                if width[i] > 1:
+                    rest = []
+                    for j, x in enumerate(parts):
+                        if j != i:
+                            rest += self._disjuncts(x, pos, ctx)
+                    return self._assert(parts[i], prefix + rest, pos, out, ctx)
         c = _clean(prefix + self._disjuncts(e, pos, ctx))
         if c is not None:
             out.append(c)

@@ -160,11 +160,15 @@ class ModelAnalysis:
 
     # ------------------------------------------------------------------ anomalies
     @_locked
-    def anomalies(self, time_budget: Optional[float] = 10.0, hard_budget: Optional[float] = None) -> list[Diagnostic]:
+    def anomalies(self, time_budget: Optional[float] = 10.0, hard_budget: Optional[float] = None,
+                  explain: bool = True) -> list[Diagnostic]:
         """Void model, dead and false-optional features, redundant and always-false constraints,
         each explained.  ``time_budget``: seconds for the explanations (finding the anomalies gets
         at least ``MIN_DETECTION``); ``hard_budget``: seconds from now (the encoding included)
-        that nothing passes, the search stops and says so (a caller's own budget)."""
+        that nothing passes, the search stops and says so (a caller's own budget).
+        ``explain=False``: the same findings without their explanations (what a quick fix's
+        re-check needs: ``project.fixes``), explaining only where an explanation decides
+        whether a finding is reported."""
         t0 = time.monotonic()
         enc = self.encoding
         an = self.analyzer
@@ -174,6 +178,7 @@ class ModelAnalysis:
         if hard_by is not None and (deadline is None or hard_by < deadline):
             deadline = hard_by
         out: list[Diagnostic] = list(enc.diagnostics())
+        wanted = explain
 
         def related(ex: Optional[Explanation]) -> list[Related]:
             if ex is None:
@@ -181,20 +186,28 @@ class ModelAnalysis:
             return [Related(e.path, e.span, e.label) for e in ex.elements]
 
         def because(ex: Optional[Explanation]) -> str:
+            if not wanted:
+                return ""
             if ex is None:
                 return " (no explanation: the time budget ran out)"
             labels = [e.label for e in ex.elements]
             s = "; ".join(labels[:4]) + ("; …" if len(labels) > 4 else "")
             return f" Because: {s}." if labels else ""
 
-        def explain(extra, among=None) -> Optional[Explanation]:
+        # (an explanation decides whether a finding caused by an element the front end reported
+        # is reported again)
+        filtering = any(_reported(e) or _impossible_group(e, self.model.format) for e in enc.elements)
+
+        def explain(extra, among=None, needed=False) -> Optional[Explanation]:
+            if not wanted and not (needed and filtering):
+                return None
             if deadline is not None and time.monotonic() > deadline:
                 return None
             return an.explain(extra, deadline=deadline, among=among)
 
         root = self.model.root
         if an.is_void():
-            ex = explain([])
+            ex = explain([], needed=True)
             rpath = root.path if root else self.model.path
             rspan = root.name_span if root else None
             from ..base.text import ZERO_SPAN
@@ -237,7 +250,7 @@ class ModelAnalysis:
                 f"{'none are' if bb is None else 'false-optional features are not'} reported "
                 "(the editor's count.timeBudget setting, or `--budget` for `--check`, raises the budget)"))
         for f in (an.dead() if bb is not None else []):
-            ex = explain([v[f]])
+            ex = explain([v[f]], needed=True)
             if ex is not None and any(_reported(e) for e in ex.elements):
                 continue  # caused by a value the front end reported as an error
             out.append(Diagnostic(DEAD_FEATURE, Severity.WARNING, f.path, f.name_span,

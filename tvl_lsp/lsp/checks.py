@@ -159,6 +159,13 @@ def full_check_worker(kind: str, path: str, text: str, texts: dict[str, str], ro
     return full_check(kind, path, text, read, roots, budget, None)
 
 
+def fixes_worker(path: str, text: str, texts: dict[str, str], keys: list, budget: float):
+    """The checked quick fixes of the model's findings ``keys`` (``tvl_lsp.project.fixes``) in the
+    check process, which has parsed and analysed this text for its check already."""
+    from ..project.fixes import fixes_for
+    return fixes_for(path, text, SnapshotReader(texts), [tuple(k) for k in keys], budget)
+
+
 def _start_compiling(path: str, text: str, read: Reader, budget: float) -> None:
     """Start d4 on the model (in the background: its own process) before the anomaly search,
     so the counts the server asks for next (hover, code lens) are ready sooner; the check

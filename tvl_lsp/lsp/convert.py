@@ -172,6 +172,15 @@ def fix_to_edit(fix: Fix, index_of: IndexOf, encoding: str) -> types.WorkspaceEd
     return types.WorkspaceEdit(changes=changes)
 
 
+def fix_to_versioned_edit(fix: Fix, uri: str, version: Optional[int], index: LineIndex,
+                          encoding: str) -> types.WorkspaceEdit:
+    """A fix of one document as ``documentChanges`` naming the version it was computed for: the
+    client applies it only to that version (an edited document refuses it)."""
+    edits = [types.TextEdit(range=to_lsp_range(index, e.span, encoding), new_text=e.new_text) for e in fix.edits]
+    return types.WorkspaceEdit(document_changes=[types.TextDocumentEdit(
+        text_document=types.OptionalVersionedTextDocumentIdentifier(uri=uri, version=version), edits=edits)])
+
+
 def spans_overlap(a: Span, b: Span) -> bool:
     return a.start <= b.end and b.start <= a.end
 

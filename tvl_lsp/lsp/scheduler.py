@@ -166,6 +166,9 @@ class Scheduler:
             self.publish(uri)
             log.info("check of %s: %d diagnostics", path, len(diags))
             self.prefetch_facts(path, kind)
+            if kind in ("tvl", "uvl"):
+                from .features import quickfix
+                quickfix.prefetch(self, uri)  # the anomalies' checked quick fixes (bounded)
             if not any(not t.done() for u, t in self._full_tasks.items() if u != uri):
                 self.trim_when_idle()  # nothing else pending: give the freed heap back
         except asyncio.CancelledError:

@@ -225,8 +225,9 @@ def _compile_inprocess(py_d4, nvars, clauses, options) -> tuple[str, int]:
         try:
             os.dup2(devnull, 1)
             cfg = _d4_options(options)
-            s = py_d4.Solver([list(c) for c in clauses], nvars) if cfg is None else \
-                py_d4.Solver([list(c) for c in clauses], nvars, cfg)
+            if type(clauses) is not list or not all(type(c) is list for c in clauses):
+                clauses = [list(c) for c in clauses]  # (py_d4 takes lists of lists)
+            s = py_d4.Solver(clauses, nvars) if cfg is None else py_d4.Solver(clauses, nvars, cfg)
             try:
                 r = s.compile()
                 return r.getNNFString(), decimal_int(r.count([]))

@@ -54,6 +54,8 @@ PYGANAK_INPROCESS_VARS = 100  # with a budget: bigger CNFs go to a killable chil
 PASSES_KEPT = 16  # passes kept per CNF (each: one count per feature)
 D4_SHARE = 0.75  # of a time budget, the part d4 gets before pyganak takes over
 MIN_FALLBACK_BUDGET = 0.2  # seconds: less is not worth starting pyganak's process
+REDUCE_SHARE = 0.1  # of d4's time budget, the most the optional reductions (backbone...) take
+REDUCTION_TAG = "c tvl-lsp-reduction "
 
 MEMORY = C.MemoryCache(8)
 DISK = C.DiskCache()
@@ -127,27 +129,44 @@ def _lock_for(key: str) -> threading.Lock:
         return lk
 
 
+class _Counted:
+    """The count d4 reported for a reduced CNF, as the circuit :class:`.simplify.LiftedCircuit`
+    lifts (its total only)."""
+
+    def __init__(self, n: int):
+        self.n = n
+
+    def count(self, lits=()) -> int:
+        return self.n
+
+
 class CNFCounter:
     def __init__(self, nvars: int, clauses: Sequence[Sequence[int]], n_features: int,
                  determined: bool = True, label: str = "model", d4_options: Optional[dict] = None,
-                 inprocess: bool = False):
+                 inprocess: bool = False, reduce: bool = True):
         self.nvars = max(nvars, n_features)
         self.clauses = [list(c) for c in clauses]
         self.n_features = n_features
         self.determined = determined
         self.label = label
         self.d4_options = d4_options
+        # the CNF is made smaller (exactly: :mod:`.simplify`) before d4 compiles it
+        self.reduce = reduce and os.environ.get("TVL_LSP_NO_REDUCE", "") in ("", "0")
         # compile in this process whatever the size when there is no budget (the command line:
         # Ctrl-C still works, see d4.compile_inprocess); never in the language server
         self.inprocess = inprocess
-        used: set[int] = set()
+        lits: set[int] = set()
+        add = lits.update
         for c in self.clauses:
-            for x in c:
-                used.add(abs(x))
+            add(c)
+        used = {abs(x) for x in lits}
         self.universe = sorted(set(range(1, n_features + 1)) | used)
         # auxiliary variables that occur in no clause double d4's count each
         self.unused_aux = self.nvars - len(self.universe)
-        self.key = C.cnf_key(self.nvars, self.clauses, extra=repr(sorted((d4_options or {}).items())))
+        # (a reduced CNF's circuit is stored apart: the d-DNNF file of the CNF itself stays one
+        # other tools read, e.g. ddnnife)
+        self.key = C.cnf_key(self.nvars, self.clauses, extra=repr(sorted((d4_options or {}).items()))
+                             + (" reduced-1" if self.reduce else ""))
         self.last_engine: Optional[str] = None
         # the last passes: (circuit id, literals) -> (total, counts), most recent last
         self._passes: "OrderedDict[tuple, tuple]" = OrderedDict()
@@ -188,32 +207,7 @@ class CNFCounter:
             if progress:
                 progress(f"compiling {self.label} with d4")
             try:
-                small = self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES
-                tiny = self.nvars <= INPROCESS_BUDGETED_VARS and len(self.clauses) <= 10 * INPROCESS_BUDGETED_VARS
-                from .d4 import inprocess_ok
-                if (tiny or (timeout is None and cancel is None and (self.inprocess or small))) and inprocess_ok(tiny):
-                    from .d4 import compile_inprocess
-                    text, n = compile_inprocess(self.nvars, self.clauses, self.d4_options,
-                                                interruptible=self.inprocess, tiny=tiny)
-                    DISK.put(self.key, text, n)
-                else:  # (under a memory limit always here: d4 sizes itself to its own limits)
-                    from .d4 import compile_cnf
-                    from ...base.files import read_text
-                    tmp = DISK.tmp_path(self.key)
-                    try:
-                        rep = compile_cnf(self.nvars, self.clauses, tmp, timeout=timeout, cancel=cancel,
-                                          progress=progress, options=self.d4_options)
-                        text = None
-                        n = rep["count"]
-                        digest = tuple(rep["nnf"]) if isinstance(rep.get("nnf"), list) else None
-                        if DISK.adopt(self.key, tmp, n, digest) is None:
-                            text = read_text(tmp, C.NNF_MAX_BYTES)  # no disk cache: keep it in memory
-                    finally:
-                        if os.path.lexists(tmp):
-                            try:
-                                os.unlink(tmp)
-                            except OSError:
-                                pass
+                text, n = self._compile(timeout, cancel, progress)
             except CountTimeout as e:
                 _FAILED[self.key] = (str(e), timeout)
                 raise
@@ -229,9 +223,77 @@ class CNFCounter:
                 self._load(text)
             return text, n, "d4"
 
+    def _compile(self, timeout, cancel, progress) -> tuple[Optional[str], int]:
+        """Compile (the reduced CNF when ``self.reduce``) and store the result on disk: (the
+        stored text when it is not in the disk cache, else None; the count over all variables).
+        The stored text of a reduced CNF is a ``c tvl-lsp-reduction`` line (the way back to the
+        original variables, :class:`.simplify.Reduction`) followed by the reduced CNF's NNF."""
+        t0 = time.monotonic()
+        nvars, clauses, head, red = self.nvars, self.clauses, "", None
+        if self.reduce:
+            from .simplify import reduce_cnf, LiftedCircuit
+            # (auxiliary variables are not eliminated: that keeps the count of the features
+            # only, and the circuit counts every variable -- the same number only when the
+            # caller's ``determined`` is right)
+            red = reduce_cnf(self.nvars, self.clauses, self.n_features, self.universe,
+                             deadline=None if timeout is None else t0 + timeout * REDUCE_SHARE)
+            head = REDUCTION_TAG + red.to_json().decode() + "\n"
+            nvars, clauses = red.k, red.clauses
+            if red.void:
+                nvars, clauses = 0, [[]]
+            if timeout is not None:
+                timeout = max(0.0, timeout - (time.monotonic() - t0))
+
+        def lifted(n: int) -> int:
+            if red is None or red.void:
+                return n
+            return LiftedCircuit(_Counted(n), red, self.universe).count() << self.unused_aux
+
+        # (where d4 runs follows the CNF's own size, as without the reduction)
+        small = self.nvars <= INPROCESS_MAX_VARS and len(self.clauses) <= INPROCESS_MAX_CLAUSES
+        tiny = self.nvars <= INPROCESS_BUDGETED_VARS and len(self.clauses) <= 10 * INPROCESS_BUDGETED_VARS
+        from .d4 import inprocess_ok
+        if (tiny or (timeout is None and cancel is None and (self.inprocess or small))) and inprocess_ok(tiny):
+            from .d4 import compile_inprocess
+            text, n = compile_inprocess(nvars, clauses, self.d4_options, interruptible=self.inprocess, tiny=tiny)
+            text, n = head + text, lifted(n)
+            DISK.put(self.key, text, n)
+            return text, n
+        # (under a memory limit always here: d4 sizes itself to its own limits)
+        from .d4 import compile_cnf
+        from ...base.files import read_text
+        tmp = DISK.tmp_path(self.key)
+        try:
+            rep = compile_cnf(nvars, clauses, tmp, timeout=timeout, cancel=cancel,
+                              progress=progress, options=self.d4_options)
+            n = lifted(rep["count"])
+            if head:  # the reduction's line first: stored through the cache's writer
+                text = head + read_text(tmp, C.NNF_MAX_BYTES)
+                DISK.put(self.key, text, n)
+                return text, n
+            digest = tuple(rep["nnf"]) if isinstance(rep.get("nnf"), list) else None
+            if DISK.adopt(self.key, tmp, n, digest) is None:
+                return read_text(tmp, C.NNF_MAX_BYTES), n  # no disk cache: keep it in memory
+            return None, n
+        finally:
+            if os.path.lexists(tmp):
+                try:
+                    os.unlink(tmp)
+                except OSError:
+                    pass
+
     def _load(self, text: str, from_disk: bool = False) -> Optional[Circuit]:
         try:
-            circ = Circuit(text, self.nvars, self.universe)
+            if text.startswith(REDUCTION_TAG):
+                from .simplify import LiftedCircuit, Reduction
+                first, _, body = text.partition("\n")
+                red = Reduction.from_json(first[len(REDUCTION_TAG):].encode(), self.nvars)
+                if red is None:
+                    raise NNFError("the stored reduction is not one of this CNF's")
+                inner = None if red.void or not red.k else Circuit(body, red.k)
+                circ = LiftedCircuit(inner, red, self.universe)
+            else:
+                circ = Circuit(text, self.nvars, self.universe)
         except NNFError as e:
             DISK.discard(self.key)
             if from_disk:

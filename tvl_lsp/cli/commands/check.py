@@ -14,6 +14,8 @@ from typing import Optional
 
 from ...project.budget import CHECK_CPU_SECONDS, CHECK_MEMORY_BYTES
 
+FIX_SECONDS = 60.0
+
 EPILOG = """\
 formats:
   text    path:line:col: severity[code] message   (1-based line and column)
@@ -21,6 +23,10 @@ formats:
           positions, character in UTF-16 code units; witness: feature -> true/false
   sarif   SARIF 2.1.0 (GitHub code scanning, VS Code SARIF viewer, ...)
   github  GitHub Actions workflow commands (::error file=...,line=...::message)
+
+--fix shows the quick fixes of model anomalies as a unified diff (tvl-lsp --check --fix models/ |
+git apply); --fix --apply writes them and reports what is left.  --select / --ignore choose the
+codes fixed.
 
 Pairing a launch file with its model: a HAROS project file (configurations: {lf: ..., tvl: ...}),
 else a marker comment <!-- tvl-lsp: model=path/to/model.tvl --> in the launch file, else a .tvl
@@ -59,6 +65,14 @@ def build_parser() -> argparse.ArgumentParser:
                         % CHECK_CPU_SECONDS)
     p.add_argument("--memory", type=int, default=None, metavar="MB",
                    help="memory the check may allocate, in MB (default: %d)" % (CHECK_MEMORY_BYTES // 1024 ** 2))
+    p.add_argument("--fix", action="store_true",
+                   help="fix the anomalies of TVL and UVL models (void model, dead and false-optional features, "
+                        "redundant and always-false constraints), each fix checked to remove its finding and add "
+                        "none: prints a unified diff and writes nothing (exit 1 when there is something to fix)")
+    p.add_argument("--apply", action="store_true",
+                   help="with --fix: write the fixed models, then check as usual")
+    p.add_argument("--fix-budget", type=float, default=FIX_SECONDS, metavar="SECONDS",
+                   help="seconds the fixes of one model may take (default: %g)" % FIX_SECONDS)
     return p
 
 
@@ -106,9 +120,37 @@ def main(argv: Optional[list[str]] = None) -> int:
             raise _UsageError("--budget must be a number of seconds, 0 or more")
         if ns.memory is not None and ns.memory < 64:
             raise _UsageError("--memory must be at least 64 (MB)")
+        if ns.apply and not ns.fix:
+            raise _UsageError("--apply goes with --fix (tvl-lsp --check --fix --apply)")
+        if not ns.fix_budget > 0:
+            raise _UsageError("--fix-budget must be a number of seconds above 0")
     except _UsageError as exc:
         print(f"tvl-lsp --check: error: {exc}", file=sys.stderr)
         return 2
+
+    if ns.fix:
+        from ...project.fixes import ANOMALY_CODES
+        from .. import fix
+        codes = (set(ANOMALY_CODES) & select if select else set(ANOMALY_CODES)) - ignore
+        try:
+            from ...project.budget import cap_memory
+            with cap_memory(CHECK_MEMORY_BYTES if ns.memory is None else ns.memory * 1024 ** 2):
+                made, failed = fix.run(paths, codes, ns.apply, ns.fix_budget, ns.quiet,
+                                       None if ns.apply else ns.output)
+        except MemoryError:
+            print("tvl-lsp --check --fix: error: the fixes needed more memory than --memory allows",
+                  file=sys.stderr)
+            return 2
+        except BrokenPipeError:
+            raise
+        except Exception:
+            print("tvl-lsp --check --fix: internal error (please report it):", file=sys.stderr)
+            traceback.print_exc()
+            return 2
+        if failed:
+            return 2
+        if not ns.apply:
+            return 1 if made else 0
 
     from ...project.workspace import explicit_skip_reason
     # a file named explicitly that is not checked gets a diagnostic of the report
