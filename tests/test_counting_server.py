@@ -215,6 +215,9 @@ class _Server(Scheduler, Workers):
         await asyncio.sleep(0.05)  # the server's parse of the model
         return {path: self.docs["file://m"].text}
 
+    def own_sources(self, path):
+        return None  # (the parse decides)
+
     def _remember(self, key):
         pass
 
@@ -394,8 +397,8 @@ class _Parsing(_Server):
     def _store_parsed(self, path, text, parsed):
         return self._ds._store_parsed(self, path, text, parsed)
 
-    async def _parse_now(self, path, kind, text):
-        return await self._ds._parse_now(self, path, kind, text)
+    async def _parse_now(self, path, kind, text, before=None):
+        return await self._ds._parse_now(self, path, kind, text, before)
 
     def snapshot_reader(self):
         return lambda p: None

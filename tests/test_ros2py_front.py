@@ -443,3 +443,64 @@ def generate_launch_description():
     diags = check_document(str(p))
     assert "launch-not-analysable" in {d.code for d in diags}
     assert not [d for d in diags if d.code == "missing-arg"], [d.message for d in diags]
+
+
+def test_a_pytest_file_without_generate_launch_description_is_declined_not_an_error(tmp_path):
+    """``test_x_launch.py`` of launch_pytest (or plain pytest) matches ``*_launch.py`` but pytest runs
+    it: no "missing generate_launch_description" error; a plain module without one still gets it."""
+    p = _ws(tmp_path, "import launch\nimport launch_pytest\nimport pytest\n\n\n@launch_pytest.fixture\n"
+                      "def launch_description():\n    return launch.LaunchDescription([])\n", name="test_x_launch.py")
+    diags = check_document(str(p))
+    assert [d.code for d in diags] == ["launch-not-analysable"] and "launch_pytest" in diags[0].message
+    q = _ws(tmp_path, "import launch\n\n\ndef launch_description():\n    return launch.LaunchDescription([])\n",
+            name="plain_launch.py")
+    assert [d.code for d in check_document(str(q))] == ["invalid-launch-file"]
+
+
+def test_a_required_arg_declared_after_an_include_that_passes_it_is_no_undefined_arg(tmp_path):
+    """launch's look-ahead keeps the include's declaration of 'mm' (which the include passes from
+    LaunchConfiguration('mm')) and not the file's own later DeclareLaunchArgument('mm'): the command
+    line must still give mm (the oracle resolves the file with mm:=x, fails without): a warning that
+    it is required, never an undefined-arg error in every product."""
+    inc = _ws(tmp_path, HEAD + """
+def generate_launch_description():
+    return LaunchDescription([DeclareLaunchArgument('mm'), Node(package='demo_pkg', executable='b', name='b',
+                              parameters=[{'mm': LaunchConfiguration('mm')}])])
+""", name="inc.launch.py")
+    p = _ws(tmp_path, HEAD + """
+import os
+from ament_index_python.packages import get_package_share_directory
+from launch.actions import IncludeLaunchDescription
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+
+
+def generate_launch_description():
+    inc = IncludeLaunchDescription(PythonLaunchDescriptionSource(
+        os.path.join(get_package_share_directory('demo_pkg'), 'launch', 'inc.launch.py')),
+        launch_arguments={'mm': LaunchConfiguration('mm')}.items())
+    return LaunchDescription([inc, DeclareLaunchArgument(name='mm')])
+""")
+    assert inc.exists()
+    diags = check_document(str(p))
+    assert [d.code for d in diags if d.severity == 1] == [], [(d.code, d.message) for d in diags]
+    unset = [d for d in diags if d.code == "unset-arg"]
+    assert len(unset) == 1 and _text_at(p, unset[0].span) == "mm", [(d.code, d.message) for d in diags]
+
+
+def test_a_node_whose_executable_is_a_path_is_declined_by_the_concrete_load(tmp_path):
+    """Node(executable='/dev/null') (a LaunchConfiguration default that must be overridden):
+    launch_ros' which() looks at that path, not in the package -- whether it runs depends on the
+    machine (the oracle: SubstitutionFailure for /dev/null).  Declined at the executable, never a
+    node list; a plain executable name still loads."""
+    p = _ws(tmp_path, HEAD + """
+def generate_launch_description():
+    exe = LaunchConfiguration('scenario', default='/dev/null')
+    return LaunchDescription([Node(package='demo_pkg', executable=exe, name='s'),
+                              Node(package='demo_pkg', executable='a', name='a')])
+""")
+    res = load_launch2(str(p), {}, workspace_root=str(tmp_path / "ws"), env=ENV, stub_packages=True)
+    assert res.error_type == "NotAnalysed" and "executable of this node is a path" in res.error, res.error
+    assert res.error_line == 9   # the executable= value
+    res = load_launch2(str(p), {"scenario": "runner"}, workspace_root=str(tmp_path / "ws"), env=ENV,
+                       stub_packages=True)
+    assert res.error is None and sorted(n["executable"] for n in res.nodes) == ["a", "runner"]

@@ -154,7 +154,7 @@ async def test_generate_turtlerand_configurations(client: LanguageClient):
         range=types.Range(start=types.Position(line=0, character=0), end=types.Position(line=0, character=0)),
         context=types.CodeActionContext(diagnostics=[])))
     gen = [a for a in actions if isinstance(a, types.CodeAction) and a.data
-           and a.data.get("tvl-lsp.generate", {}).get("mode") == "all"]
+           and a.data.get("tvl-lsp.resolve") == "generate" and a.data["args"].get("mode") == "all"]
     assert gen, actions
     resolved = await client.code_action_resolve_async(gen[0])
     from server_helpers import apply_workspace_edit
@@ -165,7 +165,7 @@ async def test_generate_turtlerand_configurations(client: LanguageClient):
     assert all('<include file="$(find turtlerand)/launch/generic.launch">' in t for t in texts)
     # deterministic: the same request names the same files
     res = await client.workspace_execute_command_async(types.ExecuteCommandParams(
-        command="tvl-lsp.generateConfigurations", arguments=[gen[0].data["tvl-lsp.generate"]]))
+        command="tvl-lsp.generateConfigurations", arguments=[gen[0].data["args"]]))
     assert sorted(Path(f) for f in res["files"]) == files and res["applied"]
     if not have_roslaunch():
         pytest.skip(ROSLAUNCH_MISSING)

@@ -233,11 +233,15 @@ def _insert_arg_fix(launch, text: Optional[str], feature: str) -> list[Fix]:
 
 def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str] = None,
                 model_path: Optional[str] = None, logic: Optional[PairLogic] = None,
-                analysis=None, choices=None) -> list[Diagnostic]:
+                analysis=None, choices=None, solver: bool = True) -> list[Diagnostic]:
     """Diagnostics of ``launch`` (a LaunchAnalysis) paired with ``model`` (or alone).
     ``analysis``: the model's :class:`~tvl_lsp.analysis.engine.ModelAnalysis`, to explain dead
     elements by the parts of the model that exclude them.  ``choices``: the ROS 2 ``<choice>``
-    args' pairings (:func:`tvl_lsp.analysis.choices.pair_choices`; computed when None)."""
+    args' pairings (:func:`tvl_lsp.analysis.choices.pair_choices`; computed when None).
+    Without ``solver``, only the checks that need no SAT question (``missing-arg``,
+    ``unmatched-arg``, the ``<choice>`` pairings, ``unset-arg``): exactly those diagnostics of
+    the full check, in milliseconds (the language server shows them before its solver-backed
+    check is done)."""
     out: list[Diagnostic] = []
     path = launch.path
     model_name = None
@@ -331,6 +335,8 @@ def cross_check(launch, model=None, encoding=None, *, launch_text: Optional[str]
             f"'{name}' has no default: roslaunch fails unless it is given on the command line ({name}:=true or "
             f"{name}:=false); tvl-lsp checks the file with both values", data={"arg": name}))
 
+    if not solver:
+        return out
     own_logic = logic is None
     if logic is None:
         logic = PairLogic(encoding if model is not None else None, free)

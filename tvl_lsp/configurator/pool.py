@@ -14,6 +14,7 @@ from . import api
 from .session import Session, SessionError
 
 MAX_SESSIONS = 8
+MAX_PER_MODEL = 2  # sessions of one model (and launch file): its current texts and the ones before
 _SESSIONS: "OrderedDict[tuple, Session]" = OrderedDict()
 _LOCK = threading.Lock()
 
@@ -43,6 +44,10 @@ def session(model: str, roots: Sequence[str], texts: Mapping[str, str], launch: 
     s = Session(model, roots, read, launches=[launch] if launch else None)
     with _LOCK:
         _SESSIONS[key] = s
+        # a session holds its model's analysis: older texts of a model being edited go first
+        same = [k for k in _SESSIONS if k[:3] == key[:3]]
+        for k in same[:max(0, len(same) - MAX_PER_MODEL)]:
+            del _SESSIONS[k]
         while len(_SESSIONS) > MAX_SESSIONS:
             _SESSIONS.popitem(last=False)
     return s

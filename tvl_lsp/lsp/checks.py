@@ -77,6 +77,17 @@ def full_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[st
                                      timeout=budget, workspace=workspace))
 
 
+def quick_check(kind: str, path: str, text: str, read: Reader, roots: Sequence[str],
+                workspace=None) -> list[Diagnostic]:
+    """What :func:`full_check` reports that needs no SAT question (``check_document`` without
+    its solver): a subset of it, computed in the server process (a thread) in milliseconds.
+    ``workspace``: the server's (its files, packages and project files, parsed once per
+    change of the workspace rather than once per keystroke)."""
+    from ..project import check
+    return list(check.check_document(path, text, read_file=read, roots=list(roots) or None, solver=False,
+                                     cpu_budget=None, workspace=workspace))
+
+
 def depends_on(ls, doc, changed: str) -> bool:
     """Should ``doc`` be re-checked when the file ``changed`` changes?  A launch file depends
     on its paired models and on the launch files it may include; a model on the launch files
@@ -154,9 +165,13 @@ def full_check_worker(kind: str, path: str, text: str, texts: dict[str, str], ro
         check.invalidate_workspaces()
         _LAST_EPOCH[0] = epoch
     read = SnapshotReader(texts)
+    import time
+    t0 = time.perf_counter()
     if kind in ("tvl", "uvl", "dimacs"):  # (every model format: project.facts.MODEL_KINDS)
         _start_compiling(path, text, read, budget)
-    return full_check(kind, path, text, read, roots, budget, None)
+    out = full_check(kind, path, text, read, roots, budget, None)
+    log.debug("check of %s: %d diagnostics in %.2f s", path, len(out), time.perf_counter() - t0)
+    return out
 
 
 def fixes_worker(path: str, text: str, texts: dict[str, str], keys: list, budget: float):

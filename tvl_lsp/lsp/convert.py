@@ -84,14 +84,21 @@ def offset_of(index: LineIndex, position: types.Position, encoding: str = "utf-1
 
 def apply_change(text: str, rng: Optional[types.Range], new_text: str, encoding: str = "utf-16") -> str:
     """Apply one ``didChange`` content change (``rng is None``: the whole text)."""
+    return apply_change_at(text, rng, new_text, encoding)[0]
+
+
+def apply_change_at(text: str, rng: Optional[types.Range], new_text: str,
+                    encoding: str = "utf-16") -> tuple[str, Optional[tuple[int, int, int]]]:
+    """:func:`apply_change`, and where: (start, end) code-point offsets of the replaced part
+    of ``text`` and the inserted length (None for a whole text)."""
     if rng is None:
-        return new_text
+        return new_text, None
     index = LineIndex(text)
     a = offset_of(index, rng.start, encoding)
     b = offset_of(index, rng.end, encoding)
     if b < a:
         a, b = b, a
-    return text[:a] + new_text + text[b:]
+    return text[:a] + new_text + text[b:], (a, b, len(new_text))
 
 
 # ------------------------------------------------------------------ diagnostics

@@ -12,6 +12,7 @@ import asyncio
 import hashlib
 import logging
 import os
+import re
 from pathlib import Path
 from typing import Any, Callable, Optional
 
@@ -27,8 +28,13 @@ FIRST_PARSE_WAIT = 1.2  # the same when the file was never parsed
 PARSE_WAIT = 0.7  # seconds a request waits for the parse of the current text (then: the last parse)
 
 
+MAX_EDITS = 1000  # changes remembered per document (to map older results onto the text)
+
+Edit = tuple  # (start, end, inserted length): code-point offsets in the text before the change
+
+
 class Document:
-    __slots__ = ("uri", "path", "text", "version", "_index", "kind")
+    __slots__ = ("uri", "path", "text", "version", "_index", "kind", "_edits", "_edits_from")
 
     def __init__(self, uri: str, text: str, version: Optional[int]):
         self.uri = uri
@@ -37,17 +43,66 @@ class Document:
         self.version = version
         self._index: Optional[LineIndex] = None
         self.kind = file_kind(self.path)
+        # the changes since version ``_edits_from``: (version after the change, Edit), in order
+        self._edits: list[tuple[Optional[int], Edit]] = []
+        self._edits_from = version
 
-    def set_text(self, text: str, version: Optional[int]) -> None:
+    def set_text(self, text: str, version: Optional[int], edits: Optional[list[Edit]] = None) -> None:
+        """The text of ``version``; ``edits``: the changes from the previous text, in order
+        (None: one change found by comparing the two texts)."""
+        if edits is None:
+            edits = [text_diff(self.text, text)]
+        self._edits.extend((version, e) for e in edits)
+        if len(self._edits) > MAX_EDITS:
+            drop = len(self._edits) - MAX_EDITS // 2
+            self._edits_from = self._edits[drop - 1][0]
+            del self._edits[:drop]
         self.text = text
         self.version = version
         self._index = None
+
+    def edits_since(self, version: Optional[int]) -> Optional[list[Edit]]:
+        """The changes that turned the text of ``version`` into the current one, in order;
+        None when they are not known (too old, or versions the client did not number)."""
+        if version == self.version:
+            return []
+        if version is None or self.version is None or self._edits_from is None or version < self._edits_from:
+            return None
+        if version > self.version:
+            return None
+        return [e for v, e in self._edits if v is not None and v > version]
 
     @property
     def index(self) -> LineIndex:
         if self._index is None:
             self._index = LineIndex(self.text)
         return self._index
+
+
+def text_diff(old: str, new: str) -> Edit:
+    """The one change (start, end in ``old``, inserted length) that turns ``old`` into ``new``:
+    their common prefix and suffix kept (a client that sends whole texts)."""
+    n = min(len(old), len(new))
+    a, step = 0, 4096
+    while a < n:  # blocks first (compared in C), then characters
+        k = min(step, n - a)
+        if old[a:a + k] == new[a:a + k]:
+            a += k
+        elif k == 1:
+            break
+        else:
+            step = max(1, k // 8)
+    m = min(len(old), len(new)) - a  # the suffix may not overlap the prefix
+    z, step = 0, 4096
+    while z < m:
+        k = min(step, m - z)
+        if old[len(old) - z - k:len(old) - z] == new[len(new) - z - k:len(new) - z]:
+            z += k
+        elif k == 1:
+            break
+        else:
+            step = max(1, k // 8)
+    return (a, len(old) - z, len(new) - z - a)
 
 
 def content_key(*parts: str) -> str:
@@ -204,12 +259,23 @@ class DocumentStore:
         key = self._parse_key(path, text)
         running = self._parsing.get(path)
         if running is None or running[0] != key:
-            task = asyncio.ensure_future(self._parse_now(path, kind, text))
+            # one parse of a file at a time: a newer text waits for the parse of the older one
+            # to end (a thread cannot be stopped), so a burst of edits to a big model never
+            # has two of its parses in memory at once
+            before = running[1] if running is not None and not running[1].done() else None
+            task = asyncio.ensure_future(self._parse_now(path, kind, text, before))
             task.add_done_callback(lambda t: t.cancelled() or t.exception())
             self._parsing[path] = running = (key, task)
         return running[1]
 
-    async def _parse_now(self, path: str, kind: str, text: str):
+    async def _parse_now(self, path: str, kind: str, text: str, before: Optional[asyncio.Future] = None):
+        if before is not None:
+            try:
+                await asyncio.shield(before)
+            except BaseException:
+                if not before.done():
+                    raise  # (this parse was cancelled)
+                # (the older parse failed: its own waiters see how)
         try:
             features = await self.launch_features(path, text) if kind == "launch" else None
             parsed = await self.run_in_thread(checks.parse_document, kind, path, text,
@@ -254,6 +320,19 @@ class DocumentStore:
         except Exception:
             log.exception("pairing failed")
             return []
+
+    def own_sources(self, model_path: str) -> Optional[dict[str, str]]:
+        """``{model_path: text}`` when the model's text cannot read another file (no word
+        ``include`` in a TVL model, ``import`` in a UVL one; a DIMACS file never does): its
+        :meth:`model_sources` without waiting for its parse -- the counts start at once."""
+        kind = file_kind(model_path)
+        text = self.read_file(model_path)
+        if text is None or kind not in ("tvl", "uvl", "dimacs"):
+            return None
+        word = {"tvl": "include", "uvl": "import"}.get(kind)
+        if word is not None and re.search(word, text, re.IGNORECASE):
+            return None
+        return {model_path: text}
 
     async def model_sources(self, model_path: str) -> Optional[dict[str, str]]:
         res = await self.parsed(model_path, wait=None)

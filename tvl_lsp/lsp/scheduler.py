@@ -13,13 +13,16 @@ from __future__ import annotations
 
 import asyncio
 import concurrent.futures as cf
+import itertools
 from concurrent.futures.process import BrokenProcessPool
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
+from ..analysis.counting.clock import WALL_FACTOR
 from ..base.diagnostics import Diagnostic
+from ..base.text import LineIndex
 from ..project import budget as file_budget
 from ..project import facts as _facts
 from . import checks
@@ -30,14 +33,38 @@ TRIM_DELAY = 1.0  # seconds after a throttled trim: the next try, if the checks 
 
 FACTS_POLL = 0.3  # seconds: how often the server asks whether a model's compilation is done
 
+# a count that ran out of its budget is retried in the background with RETRY_FACTOR times the
+# budget, again and again up to MAX_RETRY_BUDGET seconds
+FACTS_PER_MODEL = 2  # facts kept per model: its current text's and the one before (an undo)
+
+RETRY_FACTOR = 4.0
+MAX_RETRY_BUDGET = 640.0
+
 log = logging.getLogger("tvl_lsp.server")
+
+
+_SERIAL = itertools.count(1)
 
 
 @dataclass
 class CheckResult:
     version: Optional[int]
-    phase: str  # "syntax" | "full"
+    # "syntax" (a model's front end), "quick" (a launch file's checks that need no solver: its
+    # own diagnostics, its pairing's, missing-arg, unmatched-arg...) or "full"
+    phase: str
     diagnostics: list[Diagnostic]
+    text: Optional[str] = None  # the text checked (its findings are mapped onto later texts)
+    # full: the indexes of the diagnostics the quick pass does not make (the solver's findings)
+    solver: frozenset = frozenset()
+    versions: dict = field(default_factory=dict)  # full: the open documents' versions it read
+    serial: int = field(default_factory=lambda: next(_SERIAL))
+    _index: Optional[LineIndex] = None
+
+    @property
+    def index(self) -> Optional[LineIndex]:
+        if self._index is None and self.text is not None:
+            self._index = LineIndex(self.text)
+        return self._index
 
 
 class Scheduler:
@@ -51,11 +78,16 @@ class Scheduler:
         self._full_tasks: dict[str, asyncio.Task] = {}
         self._check_running: dict[str, tuple] = {}
         self.results: dict[str, CheckResult] = {}
+        self.last_full: dict[str, CheckResult] = {}  # uri -> its last solver-backed check
+        self._quick_keys: dict[str, tuple] = {}  # uri -> (version, keys of its quick pass's diagnostics)
         self._facts_futures: dict[str, asyncio.Future] = {}
         self._facts_queued: dict[str, tuple] = {}
         self._facts_submitted: dict[str, asyncio.Event] = {}  # set once a count is in a pool's queue
         self._facts_lookups: dict[str, asyncio.Future] = {}  # content key -> read of the stored facts
         self._trim_handle: Optional[asyncio.TimerHandle] = None  # a memory trim waiting for idle checks
+        self._facts_keys: dict[str, list] = {}  # model path -> its cached facts' keys, oldest first
+        self._retries: dict[str, tuple] = {}  # model path -> (facts key, task): counts retried in the background
+        self._retry_lock = asyncio.Lock()
 
     # ------------------------------------------------------------ scheduling
     def schedule(self, uri: str, syntax: bool = True) -> None:
@@ -83,20 +115,36 @@ class Scheduler:
                 if doc is None:
                     return
                 version, text, path, kind = doc.version, doc.text, doc.path, doc.kind
+                phase = "quick" if kind == "launch" else "syntax"
                 try:
                     # the parse requests share (hover, outline, model_sources) when one of
                     # this text is under way: one parse per text at a time
                     parsed = await asyncio.shield(self.parse_task(path, kind, text))
                     diags = list(getattr(parsed, "diagnostics", []) or [])
-                    log.info("syntax of %s: %d diagnostics", path, len(diags))
+                    if uri in self._syntax_dirty and uri in self.results:
+                        continue  # a newer text came meanwhile: on to it (a burst of keys)
+                    if kind == "launch":
+                        if uri not in self.results and self.docs.get(uri) is doc and doc.version == version:
+                            # a file just opened: its syntax at once (milliseconds), then ...
+                            self.results[uri] = CheckResult(version, "syntax", diags, text)
+                            self.publish(uri)
+                        # ... the checks that need no solver (pairing, missing / unmatched
+                        # args): shown before the worker processes are even up
+                        try:
+                            diags = await self.run_in_thread(self._quick_check, path, text, self.snapshot_reader())
+                        except Exception:  # (its syntax, then: the full check reports the rest)
+                            log.exception("quick check of %s failed", path)
+                            phase = "syntax"
+                    log.info("%s pass of %s: %d diagnostics", phase, path, len(diags))
                 except Exception:
-                    log.exception("syntax check of %s failed", path)
+                    log.exception("%s pass of %s failed", phase, path)
                     diags = []
+                self._quick_keys[uri] = (version, frozenset(d.sort_key() for d in diags))
                 doc = self.docs.get(uri)
                 cur = self.results.get(uri)
                 if doc is not None and doc.version == version and not (
                         cur and cur.version == version and cur.phase == "full"):
-                    self.results[uri] = CheckResult(version, "syntax", diags)
+                    self.results[uri] = CheckResult(version, phase, diags, text)
                     self.publish(uri)
                 if uri not in self._syntax_dirty:
                     return
@@ -114,6 +162,7 @@ class Scheduler:
             version, text, path, kind = doc.version, doc.text, doc.path, doc.kind
             budget = self.settings.time_budget
             texts = {d.path: d.text for d in self.docs.values()}
+            versions = {d.path: d.version for d in self.docs.values() if d.path != path}
             running = self._check_running.get(uri)
             if running is not None and not running.done():
                 # one check per document at a time: wait for the one on an older text (each
@@ -162,7 +211,11 @@ class Scheduler:
             doc = self.docs.get(uri)
             if doc is None or doc.version != version or self._generation.get(uri) != generation:
                 return  # stale: the text changed meanwhile
-            self.results[uri] = CheckResult(version, "full", diags)
+            res = CheckResult(version, "full", diags, text, await self._solver_part(uri, version, diags), versions)
+            doc = self.docs.get(uri)
+            if doc is None or doc.version != version or self._generation.get(uri) != generation:
+                return
+            self.results[uri] = self.last_full[uri] = res
             self.publish(uri)
             log.info("check of %s: %d diagnostics", path, len(diags))
             self.prefetch_facts(path, kind)
@@ -173,6 +226,30 @@ class Scheduler:
                 self.trim_when_idle()  # nothing else pending: give the freed heap back
         except asyncio.CancelledError:
             pass
+
+    def _quick_check(self, path: str, text: str, read) -> list[Diagnostic]:
+        """A launch file's quick check (in a thread), with the server's workspace."""
+        try:
+            ws = self.workspace_model(path)
+        except Exception:  # noqa: BLE001 (the check finds it again itself, and reports what fails)
+            ws = None
+        return checks.quick_check("launch", path, text, read, self.roots_for(path), ws)
+
+    async def _solver_part(self, uri: str, version, diags: list[Diagnostic]) -> frozenset:
+        """The indexes of ``diags`` (the full check of ``version``) that its quick pass does
+        not make: what is kept, mapped, while later texts wait for their own full check."""
+        quick = self._quick_keys.get(uri)
+        if quick is None or quick[0] != version:
+            running = self._syntax_running.get(uri)  # (the quick pass of this text, under way)
+            if running is not None:
+                try:
+                    await asyncio.wait_for(asyncio.shield(running), 5.0)
+                except (asyncio.TimeoutError, Exception):
+                    pass
+            quick = self._quick_keys.get(uri)
+        if quick is None or quick[0] != version:
+            return frozenset()  # (unknown: nothing of this check outlives its text)
+        return frozenset(i for i, d in enumerate(diags) if d.sort_key() not in quick[1])
 
     def trim_when_idle(self) -> None:
         """Give the freed heap back to the system: now, or -- when the last trim was too recent
@@ -196,6 +273,7 @@ class Scheduler:
         if doc is None or doc.version != version or self._generation.get(uri) != generation:
             return
         self.results[uri] = CheckResult(version, "full", [file_budget.exceeded(path, what)])
+        self.last_full.pop(uri, None)
         self.publish(uri)
 
     async def _facts_before_check(self, path: str) -> None:
@@ -266,7 +344,8 @@ class Scheduler:
         after that many seconds (the computation goes on and lands in the cache).
         ``submitted`` is set once the work is queued (or not needed)."""
         try:
-            sources = await self.model_sources(model_path)
+            # (a model that reads no other file: its text alone, without waiting for its parse)
+            sources = self.own_sources(model_path) or await self.model_sources(model_path)
         except BaseException:
             if submitted is not None:
                 submitted.set()
@@ -282,18 +361,22 @@ class Scheduler:
             if submitted is not None:
                 submitted.set()
             return hit
-        # a count queued for an older text of this model is stale: drop it
+        # a count queued (or retried in the background) for an older text of this model is
+        # stale: drop it
         old = self._facts_queued.get(model_path)
         if old is not None and old[0] != key[1]:
             old[1].cancel()
+        retried = self._retries.get(model_path)
+        if retried is not None and retried[0] != key:
+            del self._retries[model_path]
+            retried[1].cancel()
         fut = self._facts_futures.get(key[1])
         if fut is None:
             # counted before (this very content, in any process): the facts stored on disk,
             # read in a thread -- no parse, encoding or circuit in a worker process
             stored = await self._stored_facts(model_path, sources, key[1])
             if stored is not None:
-                self.cache[key] = stored
-                self._remember(key)
+                self._keep_facts(model_path, key, stored)
                 if submitted is not None:
                     submitted.set()
                 return stored
@@ -309,7 +392,9 @@ class Scheduler:
                     # for its diagnostics (one parse, one encoding: tvl_lsp.project.models);
                     # d4 compiles in the background there and the check process stays free
                     # for checks: ask again until the circuit is ready, then one pass counts
-                    end = loop.time() + budget + 30
+                    # (the workers' count budgets are CPU time: on a busy machine a count takes
+                    # longer than its budget on the wall clock, up to WALL_FACTOR times)
+                    end = loop.time() + budget * WALL_FACTOR + 30
 
                     def ask_check_process():
                         c = self.check_pool.submit(_facts.compute_model_facts, model_path, sources, budget,
@@ -330,7 +415,8 @@ class Scheduler:
                         # has written it -- the next question to the check process waits
                         # behind its check (it still settles a failed compilation: fallback)
                         if loop.time() > end:
-                            return _facts.ModelFacts(error=f"no count within {budget:g} s")
+                            facts = _facts.ModelFacts(error=f"no count within {budget:g} s", timed_out=True)
+                            break
                         await asyncio.sleep(FACTS_POLL)
                         latest = self._facts_queued.get(model_path)
                         if latest is not None and latest[0] != key[1]:
@@ -362,22 +448,27 @@ class Scheduler:
                         self._facts_queued[model_path] = (key[1], cfut)
                         afut = asyncio.wrap_future(cfut)
                         afut.add_done_callback(_consume)
-                        facts = await asyncio.wait_for(asyncio.shield(afut), budget + 30)
+                        facts = await asyncio.wait_for(asyncio.shield(afut), budget * WALL_FACTOR + 30)
                 except (cf.CancelledError, asyncio.CancelledError):
                     if cfut is not None and cfut.cancelled():
                         return _facts.ModelFacts(error="cancelled: the model changed")
                     raise
                 except Exception as e:
-                    facts = _facts.ModelFacts(error=f"{type(e).__name__}: {e}")
+                    timed_out = isinstance(e, asyncio.TimeoutError)
+                    facts = _facts.ModelFacts(error=f"{type(e).__name__}: {e}" if str(e) else
+                                              f"no count within {budget:g} s", timed_out=timed_out)
                     if pool_of == "count" and isinstance(e, (BrokenProcessPool, asyncio.TimeoutError)):
                         self.restart_proc_pool()
-                    elif pool_of == "check" and isinstance(e, asyncio.TimeoutError):
+                    elif pool_of == "check" and timed_out:
                         self.restart_check_pool()  # (a broken one: the next check restarts it)
-                    return facts
-                # (a count that ran out of its budget is cached too: the same text and
-                # budget would run out again)
-                self.cache[key] = facts
-                self._remember(key)
+                    if not timed_out:
+                        return facts
+                if facts.timed_out:
+                    # not an answer: the hovers say so while it is counted again, in the
+                    # background with a longer budget (the same text and budget would run
+                    # out again: the timeout stands for this text until the retry answers)
+                    facts.retry = self._retry_facts(model_path, sources, key, budget)
+                self._keep_facts(model_path, key, facts)
                 return facts
 
             async def run():
@@ -406,6 +497,74 @@ class Scheduler:
             return await asyncio.wait_for(asyncio.shield(fut), wait)
         except asyncio.TimeoutError:
             return None
+
+    def _retry_facts(self, model_path: str, sources: dict[str, str], key: tuple, last: float) -> Optional[float]:
+        """Count the model again in the background process (niced: nobody waits for it yet)
+        with :data:`RETRY_FACTOR` times the ``last`` budget, at most :data:`MAX_RETRY_BUDGET`
+        seconds; returns that budget, or None when ``last`` was the longest.  A newer text of
+        the model cancels it."""
+        nxt = min(MAX_RETRY_BUDGET, last * RETRY_FACTOR)
+        if nxt <= last:
+            return None
+        old = self._retries.get(model_path)
+        if old is not None and old[0] != key:
+            old[1].cancel()
+        task = asyncio.ensure_future(self._run_retry(model_path, sources, key, nxt))
+        task.add_done_callback(_consume)
+        self._retries[model_path] = (key, task)
+        return nxt
+
+    async def _run_retry(self, model_path: str, sources: dict[str, str], key: tuple, budget: float) -> None:
+        def current() -> bool:
+            got = self._retries.get(model_path)
+            return got is not None and got[0] == key
+        async with self._retry_lock:  # one at a time: the background process has one worker
+            if not current():
+                return
+            log.info("facts of %s: counting again in the background with %g s", model_path, budget)
+            try:
+                cfut = self.background_pool.submit(_facts.compute_model_facts, model_path, sources, budget)
+                afut = asyncio.wrap_future(cfut)
+                afut.add_done_callback(_consume)
+                facts = await asyncio.wait_for(asyncio.shield(afut), budget * WALL_FACTOR + 30)
+            except asyncio.CancelledError:
+                self.stop_background_pool()  # (stale: the model changed)
+                raise
+            except Exception as e:
+                facts = _facts.ModelFacts(error=f"{type(e).__name__}: {e}" if str(e) else
+                                          f"no count within {budget:g} s",
+                                          timed_out=isinstance(e, asyncio.TimeoutError))
+                self.stop_background_pool()
+        if not current():
+            return
+        log.info("facts of %s: %s after the retry with %g s", model_path,
+                 "counted" if not facts.timed_out else "still not counted", budget)
+        if facts.timed_out:
+            facts.retry = self._retry_facts(model_path, sources, key, budget)
+        if facts.retry is None:
+            self._retries.pop(model_path, None)
+            if not self._retries:
+                self.stop_background_pool()  # nothing more to do there: give its memory back
+        self._keep_facts(model_path, key, facts)
+        if self.cap("workspace.code_lens.refresh_support", False):
+            try:
+                self.workspace_code_lens_refresh(None)
+            except Exception:
+                pass
+
+    def _keep_facts(self, model_path: str, key: tuple, facts) -> None:
+        """Cache ``facts`` under ``key``: those of the latest :data:`FACTS_PER_MODEL` texts of
+        each model (a big model's facts hold a count per feature: automotive2_1's, 1,261-digit
+        counts of 14,010 features, weigh 15 MB; one per edit grew the server by 300 MB)."""
+        self.cache[key] = facts
+        self._remember(key)
+        keys = self._facts_keys.setdefault(model_path, [])
+        if key in keys:
+            keys.remove(key)
+        keys.append(key)
+        for old in keys[:-FACTS_PER_MODEL]:
+            self.cache.pop(old, None)
+        del keys[:-FACTS_PER_MODEL]
 
     async def _stored_facts(self, model_path: str, sources: dict[str, str], ckey: str):
         """The facts stored on disk for this content (:func:`.facts.stored_model_facts`), or
@@ -449,8 +608,7 @@ class Scheduler:
             return None
         key = ("facts", ckey, self.settings.time_budget)
         if key not in self.cache:
-            self.cache[key] = facts
-            self._remember(key)
+            self._keep_facts(path, key, facts)
         return _facts.hover_at(facts.hover, pos)
 
     async def count_under(self, model_path: str, formula, wait: Optional[float] = None):

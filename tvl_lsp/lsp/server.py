@@ -6,7 +6,7 @@
 Settings (``initializationOptions`` or ``workspace/configuration`` section ``tvl-lsp``)::
 
     {"diagnostics": {"<code>": "off" | "error" | "warning" | "information" | "hint"},
-     "count": {"timeBudget": 10},          # seconds per count / solver-backed check
+     "count": {"timeBudget": 10},          # seconds per count (CPU) / solver-backed check
      "generate": {"folder": "configs",     # relative to the launch file's package, or absolute
                   "limit": 100},           # files per "generate" action
      "debounce": 0.15}                     # seconds of quiet before the solver-backed pass
@@ -43,6 +43,7 @@ from .. import __version__
 from ..base.text import LineIndex
 from .convert import encoding_name, to_lsp_diagnostic
 from .documents import DocumentStore
+from .known import KnownDiagnostics
 from .protocol import TvlProtocol
 from .scheduler import Scheduler
 from .settings import Settings
@@ -54,7 +55,7 @@ log = logging.getLogger("tvl_lsp.server")
 MAX_DIAGNOSTICS = 1000  # per document: beyond this an editor is no help anyway
 
 
-class TvlLanguageServer(DocumentStore, Scheduler, Workers, LanguageServer):
+class TvlLanguageServer(DocumentStore, Scheduler, KnownDiagnostics, Workers, LanguageServer):
     def __init__(self):
         super().__init__("tvl-lsp", __version__, protocol_cls=TvlProtocol,
                          text_document_sync_kind=types.TextDocumentSyncKind.Incremental)
@@ -63,6 +64,7 @@ class TvlLanguageServer(DocumentStore, Scheduler, Workers, LanguageServer):
         self._init_documents()
         self._init_workers()
         self._init_scheduler()
+        self._init_known()
 
     # ------------------------------------------------------------ client capabilities
     @property
@@ -102,9 +104,10 @@ class TvlLanguageServer(DocumentStore, Scheduler, Workers, LanguageServer):
 
     # ------------------------------------------------------------ publishing
     def lsp_diagnostics(self, uri: str) -> list[types.Diagnostic]:
+        """The document's diagnostics as far as they are known now (``known.py``: the quick
+        pass of its text, the solver's findings of its last full check moved with the edits)."""
         doc = self.docs.get(uri)
-        res = self.results.get(uri)
-        if doc is None or res is None:
+        if doc is None or self.results.get(uri) is None:
             return []
         out = []
         enc = self.encoding
@@ -114,7 +117,7 @@ class TvlLanguageServer(DocumentStore, Scheduler, Workers, LanguageServer):
             if p not in memo:
                 memo[p] = self.index_of(p)
             return memo[p]
-        for d in res.diagnostics:
+        for d in self.known_diagnostics(uri):
             if d.path and d.path != doc.path and Path(d.path) != Path(doc.path):
                 continue
             sev = self.settings.severity(d)
@@ -143,6 +146,9 @@ class TvlLanguageServer(DocumentStore, Scheduler, Workers, LanguageServer):
 
     def clear(self, uri: str) -> None:
         self.results.pop(uri, None)
+        self.last_full.pop(uri, None)
+        self._quick_keys.pop(uri, None)
+        self.forget_known(uri)
         if not self.pull_diagnostics:
             self.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
 
@@ -161,9 +167,10 @@ class TvlLanguageServer(DocumentStore, Scheduler, Workers, LanguageServer):
 
 
 def create_server() -> TvlLanguageServer:
-    from ..configurator.preload import import_core
+    from ..configurator.preload import import_core, warm_parsers
     from .features import register_all
     import_core()  # before any check thread exists: concurrent first imports are not safe
+    warm_parsers()  # (the first document opened is parsed at once)
     server = TvlLanguageServer()
     register_all(server)
     return server
@@ -248,6 +255,7 @@ def main(argv: list[str] | None = None) -> int:
             # the client went away (end of input, or exit): stop the workers now
             server.restart_proc_pool()
             server.restart_check_pool()
+            server.stop_background_pool()
         # ``exit`` after ``shutdown``: 0, without: 1 (LSP); the end of the input: 0
         return server.protocol.exit_code or 0
     finally:

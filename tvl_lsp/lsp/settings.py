@@ -2,7 +2,7 @@
 ``tvl-lsp``::
 
     {"diagnostics": {"<code>": "off" | "error" | "warning" | "information" | "hint"},
-     "count": {"timeBudget": 10},          # seconds per count / solver-backed check
+     "count": {"timeBudget": 10},          # seconds per count (CPU) / solver-backed check
      "generate": {"folder": "configs",     # relative to the launch file's package, or absolute
                   "limit": 100},           # files per "generate" action
      "debounce": 0.15}                     # seconds of quiet before the solver-backed pass

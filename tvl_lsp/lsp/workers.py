@@ -1,6 +1,8 @@
 """Work off the event loop: a thread pool for parses, two worker processes (the solver-backed
-check, and counts / the configurator) that yield the CPU to the process answering the editor
-and die with it, ``$/progress`` reporting, and the event-loop watchdog (a debug aid).
+check, and counts / the configurator) at the server's priority -- they compute what the user
+waits for -- and a third, niced one started only for background work (a count retried with a
+longer budget, :mod:`.procinit`), all dying with the server; ``$/progress`` reporting, and the
+event-loop watchdog (a debug aid).
 
 Solvers and counters hold the GIL, so anything that may take more than a few milliseconds
 runs in a worker process, never in a thread of the server.  :class:`Workers` is a mixin of
@@ -21,7 +23,7 @@ from typing import Optional
 from lsprotocol import types
 
 from ..base.pools import kill_pool
-from .procinit import _warm, _worker_init
+from .procinit import BACKGROUND_NICE, _warm, _worker_init
 
 
 class Workers:
@@ -31,6 +33,7 @@ class Workers:
         self.executor = cf.ThreadPoolExecutor(max_workers=2, thread_name_prefix="tvl-check")
         self._proc_pool: Optional[cf.ProcessPoolExecutor] = None
         self._check_pool: Optional[cf.ProcessPoolExecutor] = None
+        self._background_pool: Optional[cf.ProcessPoolExecutor] = None
         self._proc_lock = threading.Lock()
         self.progress_counter = 0
 
@@ -38,23 +41,42 @@ class Workers:
         loop = asyncio.get_running_loop()
         return await loop.run_in_executor(self.executor, fn, *args)
 
+    @staticmethod
+    def _new_pool(nice: int = 0) -> cf.ProcessPoolExecutor:
+        import multiprocessing as mp
+        return cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
+                                      initializer=_worker_init, initargs=(nice,))
+
     @property
     def proc_pool(self) -> cf.ProcessPoolExecutor:
+        """The count process: counts, the configurator, the graph (the user waits for them)."""
         with self._proc_lock:
             if self._proc_pool is None:
-                import multiprocessing as mp
-                self._proc_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
-                                                         initializer=_worker_init)
+                self._proc_pool = self._new_pool()
             return self._proc_pool
 
     @property
     def check_pool(self) -> cf.ProcessPoolExecutor:
+        """The check process: the solver-backed checks of open documents, first counts."""
         with self._proc_lock:
             if self._check_pool is None:
-                import multiprocessing as mp
-                self._check_pool = cf.ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("spawn"),
-                                                          initializer=_worker_init)
+                self._check_pool = self._new_pool()
             return self._check_pool
+
+    @property
+    def background_pool(self) -> cf.ProcessPoolExecutor:
+        """The niced process of work nobody waits for yet (counts retried with a longer budget);
+        started on demand, stopped when its work is done or stale
+        (:meth:`stop_background_pool`): it holds a big model's memory only meanwhile."""
+        with self._proc_lock:
+            if self._background_pool is None:
+                self._background_pool = self._new_pool(BACKGROUND_NICE)
+            return self._background_pool
+
+    def stop_background_pool(self) -> None:
+        with self._proc_lock:
+            pool, self._background_pool = self._background_pool, None
+        kill_pool(pool)
 
     def restart_check_pool(self) -> None:
         with self._proc_lock:

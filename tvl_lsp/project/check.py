@@ -155,12 +155,13 @@ def _launch_own(analysis) -> list[Diagnostic]:
 def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], root: Optional[str],
                  read_file: Optional[ReadFile] = None, models: Optional[dict] = None,
                  timeout: Optional[float] = 10.0, hints=None, configs: Optional[list[str]] = None,
-                 partial: bool = False) -> list[Diagnostic]:
+                 partial: bool = False, solver: bool = True) -> list[Diagnostic]:
     """A launch file's diagnostics: its own, the cross-checks of each pairing, and, with node
     ``hints`` (:meth:`Workspace.hints_for`: a project file names it), the computation graph's
     checks, on the hints and the workspace's sources.  ROS 1 or ROS 2,
     by the file's dialect; ``partial``: a ROS 2 file other launch files include (see
-    :func:`tvl_lsp.launch.ros2.analyse_launch2`), for its check without a model."""
+    :func:`tvl_lsp.launch.ros2.analyse_launch2`), for its check without a model.  Without
+    ``solver``: only the diagnostics that need no SAT question (see :func:`cross_check`)."""
     from ..analysis.crosscheck import cross_check
     from ..launch import analyse_any, dialect_of
     read_file = read_file or default_read_file
@@ -232,13 +233,13 @@ def check_launch(path: str, text: Optional[str], pairings: Sequence[Pairing], ro
         try:
             if info is not None:
                 cur = cross_check(la, info.model, info.analysis.encoding, launch_text=text, model_path=p.model,
-                                  analysis=info.analysis, choices=pairings_of_choices)
+                                  analysis=info.analysis, choices=pairings_of_choices, solver=solver)
                 out += [_note_pairing(d, p, root or os.path.dirname(path)) for d in cur]
             else:
-                out += cross_check(la, None, None, launch_text=text)
+                out += cross_check(la, None, None, launch_text=text, solver=solver)
         except Exception as exc:
             out.append(_internal(path, f"cross-check failed: {exc!r}"))
-        if hints is not None and (hints or hints.sources):
+        if solver and hints is not None and (hints or hints.sources):
             out += _graph_findings(la, hints, configs, info, features, p, root or os.path.dirname(path), read_file)
     return out
 
@@ -563,19 +564,26 @@ def pairing_of(path: str, workspace: Optional[Workspace] = None, text: Optional[
 def check_document(path: str, text: Optional[str] = None, read_file: Optional[ReadFile] = None,
                    roots: Optional[Sequence[str]] = None, timeout: Optional[float] = 10.0,
                    workspace: Optional[Workspace] = None,
-                   cpu_budget: Optional[float] = budget.CPU_SECONDS) -> list[Diagnostic]:
+                   cpu_budget: Optional[float] = budget.CPU_SECONDS, solver: bool = True) -> list[Diagnostic]:
     """Every diagnostic of the document at ``path`` (see the module docstring), within the
-    per-file budget (:mod:`budget`: past it, one ``analysis-budget-exceeded`` error)."""
+    per-file budget (:mod:`budget`: past it, one ``analysis-budget-exceeded`` error).
+
+    Without ``solver``: only what needs no SAT question -- a model's front-end diagnostics
+    (syntax, types), a launch file's own diagnostics, its pairing's and the solver-free
+    cross-checks (``missing-arg``, ``unmatched-arg``...) -- a subset of the full answer
+    computed in milliseconds: the language server publishes it before its solver-backed
+    check is done."""
     path = norm(path)
     progress = budget.Progress()
     return budget.limited(path, lambda: _check_document(path, text, read_file, roots, timeout, workspace,
-                                                        progress),
+                                                        progress, solver),
                           cpu_budget, progress)
 
 
 def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile],
                     roots: Optional[Sequence[str]], timeout: Optional[float],
-                    workspace: Optional[Workspace], progress: Optional[budget.Progress] = None) -> list[Diagnostic]:
+                    workspace: Optional[Workspace], progress: Optional[budget.Progress] = None,
+                    solver: bool = True) -> list[Diagnostic]:
     base_read = read_file or default_read_file
 
     def read(p: str) -> Optional[str]:
@@ -590,6 +598,9 @@ def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile
         d = _unreadable(path)
         return [d] if d else []
     if is_model(path):
+        if not solver:
+            info = _load_model(path, read, text, anomalies=False)
+            return _dedupe_sort(info.diagnostics if info is not None else [])
         return _dedupe_sort(check_model(path, text, read, timeout, progress))
     if is_launch(path) or (is_xml_launch_candidate(path) and launch_root_text(text)):
         rts = _roots_for(path, roots)
@@ -601,7 +612,7 @@ def _check_document(path: str, text: Optional[str], read_file: Optional[ReadFile
         except Exception:
             partial = False
         out = list(pdiags) + check_launch(path, text, pairings, rts[0], read, None, timeout, hints, configs,
-                                          partial=partial)
+                                          partial=partial, solver=solver)
         return _dedupe_sort(d for d in out if d.path == path)
     if is_yaml(path):
         from .workspace import parse_project

@@ -4,6 +4,7 @@ and the model facts (counts, anomalies) computed in a worker process.  No pygls 
 
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass, field
 from typing import Iterable, Optional
@@ -11,6 +12,8 @@ from typing import Iterable, Optional
 from ..base import formula as fm
 from ..base.text import Pos, Span
 from ..tvl import model as M
+
+log = logging.getLogger("tvl_lsp.facts")
 
 # the kinds of model documents (TVL, UVL, DIMACS): hover, code lens, outline, configurator, ...
 MODEL_KINDS = ("tvl", "uvl", "dimacs")
@@ -35,6 +38,10 @@ class ModelFacts:
     # parses without error: the hover of each feature declaration (hover_rows), which a
     # server answers before its own parse of the text
     hover: Optional[list] = None
+    # the time budget ran out (a busy machine, a hard model): not an answer -- a host may try
+    # again with a longer budget, and says so meanwhile (``retry``: the budget of that retry)
+    timed_out: bool = False
+    retry: Optional[float] = None
 
 
 def formula_names(model: M.Model) -> list[str]:
@@ -89,6 +96,7 @@ def compute_model_facts(path: str, sources: dict[str, str], timeout: float,
                 # read back from the counting cache (compiled before): no d4 run, only the
                 # circuit to parse, so wait for it rather than queue the counts again
                 st = svc.wait(timeout if svc.on_disk() else wait)
+            log.debug("facts of %s: %s after %.2f s", path, st.state, time.perf_counter() - t0)
             if st.state in ("compiling", "idle"):
                 return ModelFacts(pending="compiling", seconds=time.perf_counter() - t0)
             if st.state in ("failed", "unusable"):
@@ -98,28 +106,64 @@ def compute_model_facts(path: str, sources: dict[str, str], timeout: float,
         # count per feature (pyganak) as far as the budget goes
         r = eng.feature_counts_result(timeout=timeout)
         facts.total = r.total
+        facts.timed_out = not r.complete  # (some features' counts are missing)
         enc = eng.encoding
         for f, v in enc.var_of_feature.items():
             n = r.counts[v]
             if n is not None:
                 facts.per_feature[f.long_name] = n
                 facts.per_feature.setdefault(f.name, n)
+        from_counts = None
         if r.complete and r.total:  # core and dead straight from the counts
             facts.core = {eng.name(f) for f, v in enc.var_of_feature.items() if r.total and r.counts[v] == r.total}
             facts.dead = {eng.name(f) for f, v in enc.var_of_feature.items() if r.counts[v] == 0}
+            from_counts = false_optional_from_counts(eng, r.counts)
         else:
             facts.core = set(eng.core_features())
             facts.dead = set(eng.dead_features())
         if time.monotonic() < t_end:
-            facts.false_optional = set(eng.false_optional_features())
+            facts.false_optional = (from_counts if from_counts is not None
+                                    else set(eng.false_optional_features()))
             if r.complete and facts.total is not None:
                 # complete and exact: kept on disk by content, so reopening the model reads
                 # them back (stored_model_facts) instead of parsing and counting again
                 _store(path, sources, facts, _self_contained_rows(path, sources, facts))
     except Exception as e:  # a timeout or a model the engine refuses: say so, never crash
+        from ..analysis.counting.errors import CountTimeout
         facts.error = f"{type(e).__name__}: {e}" if str(e) else type(e).__name__
+        facts.timed_out = isinstance(e, CountTimeout)
     facts.seconds = time.perf_counter() - t0
+    log.debug("facts of %s: %s in %.2f s", path, facts.error or "counted", facts.seconds)
     return facts
+
+
+def false_optional_from_counts(eng, counts: list) -> Optional[set[str]]:
+    """The false-optional features (optional in a group of their parent, yet in every product
+    that has the parent) from every feature's count: a feature with one parent implies it, so
+    it is in every product with its parent exactly when both counts are equal (and not 0: a
+    dead feature is not false-optional).  None when a feature with several parents is
+    optional somewhere (the solver decides those): the counts do not say which parent."""
+    enc = eng.encoding
+    var = enc.var_of_feature
+    out = set()
+    for p in enc.features:
+        vp = var.get(p)
+        if vp is None:
+            continue
+        for g in p.groups:
+            for gc in g.children:
+                f = gc.feature
+                vf = var.get(f)
+                if not gc.optional or vf is None:
+                    continue
+                if f.shared_parents:
+                    return None
+                n = counts[vf]
+                if n is None or counts[vp] is None:
+                    return None
+                if n and n == counts[vp]:
+                    out.add(eng.name(f))
+    return out
 
 
 def _self_contained_rows(path: str, sources: dict[str, str], facts: ModelFacts) -> Optional[list]:
@@ -217,6 +261,9 @@ def percent(n: int, total: int) -> str:
 def count_line(facts, f: M.Feature) -> str:
     if facts is None:
         return "products: counting… (hover again in a moment)"
+    if getattr(facts, "retry", None) and facts.total is None:
+        return (f"products: not counted yet ({facts.error}); counting again in the background with "
+                f"{facts.retry:g} s (hover again in a moment)")
     if facts.error and facts.total is None:
         return f"products: not counted ({facts.error})"
     total = facts.total

@@ -7,7 +7,11 @@ service's compiled circuit and the solver's cached answers -- per model text.
 
 A hit needs the same model text *and* the same text of every file its parse read (its
 includes), read again through the caller's ``read_file``: an edited include is a new model.
-Pure: no LSP; the cache is bounded (:data:`MAX_MODELS`, least recently used dropped).
+Pure: no LSP; the cache is bounded: :data:`MAX_MODELS` models, at most :data:`MAX_PER_PATH` texts
+of one file and :data:`MAX_MODEL_CHARS` characters of text in all (least recently used dropped
+first; the latest model is always kept).  A parsed, encoded and analysed model takes about 100
+bytes per character of its text (automotive2_1.dimacs: 3.9 MB, 360 MB): a server's worker that
+kept six texts of a big model being edited held 1.9 GB (issue #28).
 """
 
 from __future__ import annotations
@@ -22,15 +26,18 @@ from .workspace import norm
 ReadFile = Callable[[str], Optional[str]]
 
 MAX_MODELS = 6
+MAX_PER_PATH = 2  # the current text of a file being edited and the one before (an undo)
+MAX_MODEL_CHARS = 4_000_000
 
 
 class _Entry:
-    __slots__ = ("result", "analysis", "deps")
+    __slots__ = ("result", "analysis", "deps", "weight")
 
-    def __init__(self, result, analysis, deps: dict[str, Optional[str]]):
+    def __init__(self, result, analysis, deps: dict[str, Optional[str]], weight: int = 0):
         self.result = result
         self.analysis = analysis
         self.deps = deps
+        self.weight = weight
 
 
 _CACHE: "OrderedDict[tuple[str, str], _Entry]" = OrderedDict()
@@ -80,15 +87,31 @@ def load(path: str, text: str, read_file: ReadFile):
             return t
 
         res = parse_model(text, path, read_file=recording)
-        e = _Entry(res, ModelAnalysis(res.model), deps)
+        weight = len(text) + sum(len(t) for t in deps.values() if t)
+        e = _Entry(res, ModelAnalysis(res.model), deps, weight)
         with _LOCK:
             _CACHE[key] = e
             _CACHE.move_to_end(key)
-            while len(_CACHE) > MAX_MODELS:
-                old, _ = _CACHE.popitem(last=False)
-                _PARSING.pop(old, None)
+            _evict(key)
             STATS["parsed"] += 1
         return e.result, e.analysis
+
+
+def _evict(newest: tuple[str, str]) -> None:
+    """Drop the least recently used models beyond the bounds (``_LOCK`` held)."""
+    same = [k for k in _CACHE if k[0] == newest[0]]
+    for k in same[:max(0, len(same) - MAX_PER_PATH)]:
+        _drop(k)
+    total = sum(e.weight for e in _CACHE.values())
+    while len(_CACHE) > 1 and (len(_CACHE) > MAX_MODELS or total > MAX_MODEL_CHARS):
+        old = next(iter(_CACHE))
+        total -= _CACHE[old].weight
+        _drop(old)
+
+
+def _drop(key: tuple[str, str]) -> None:
+    _CACHE.pop(key, None)
+    _PARSING.pop(key, None)
 
 
 def clear() -> None:

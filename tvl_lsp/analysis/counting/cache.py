@@ -454,11 +454,15 @@ class DiskCache:
 
 
 class MemoryCache:
-    """The last few parsed circuits (they can be large), least recently used first out."""
+    """The last few parsed circuits (they can be large), least recently used first out: at most
+    ``size`` of them and ``max_weight`` in all (each put with its weight; the latest is always
+    kept)."""
 
-    def __init__(self, size: int = 8):
+    def __init__(self, size: int = 8, max_weight: Optional[int] = None):
         self.size = size
+        self.max_weight = max_weight
         self.data: OrderedDict[str, object] = OrderedDict()
+        self.weights: dict[str, int] = {}
         self.lock = threading.Lock()
 
     def get(self, key: str):
@@ -468,13 +472,18 @@ class MemoryCache:
                 self.data.move_to_end(key)
             return v
 
-    def put(self, key: str, value) -> None:
+    def put(self, key: str, value, weight: int = 0) -> None:
         with self.lock:
             self.data[key] = value
             self.data.move_to_end(key)
-            while len(self.data) > self.size:
-                self.data.popitem(last=False)
+            self.weights[key] = weight
+            total = sum(self.weights.values())
+            while len(self.data) > 1 and (len(self.data) > self.size or
+                                          (self.max_weight is not None and total > self.max_weight)):
+                old, _ = self.data.popitem(last=False)
+                total -= self.weights.pop(old, 0)
 
     def clear(self) -> None:
         with self.lock:
             self.data.clear()
+            self.weights.clear()

@@ -41,6 +41,7 @@ import threading
 import time
 from typing import Callable, Optional, Sequence
 
+from .clock import Budget
 from .errors import CancelLike, CountCancelled, CountTimeout, EngineFailed, is_cancelled
 
 Progress = Optional[Callable[[str], None]]
@@ -293,6 +294,7 @@ def _run_child(cnf_path: str, out_path: str, timeout, cancel, progress, options,
         t.start()
     start = time.monotonic()
     last_report = start
+    budget = Budget(proc.pid, timeout, start) if timeout is not None else None  # (see clock.py)
     try:
         while True:
             try:
@@ -303,7 +305,7 @@ def _run_child(cnf_path: str, out_path: str, timeout, cancel, progress, options,
             now = time.monotonic()
             if is_cancelled(cancel):
                 raise CountCancelled()
-            if timeout is not None and now - start > timeout:
+            if budget is not None and budget.spent():
                 raise CountTimeout(f"d4 gave no answer within {timeout:g} s")
             if progress is not None and now - last_report >= 1.0:
                 last_report = now

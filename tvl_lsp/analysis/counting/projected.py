@@ -15,10 +15,10 @@ import os
 import subprocess
 import sys
 import threading
-import time
 from collections import OrderedDict
 from typing import Iterable, Optional, Sequence
 
+from .clock import Budget
 from .errors import CancelLike, CountCancelled, CountTimeout
 from .errors import is_cancelled as _is_cancelled
 
@@ -119,7 +119,7 @@ def _count_subprocess(nvars, clauses, projection, timeout: Optional[float], canc
     tr = threading.Thread(target=read, daemon=True)
     tw.start()
     tr.start()
-    start = time.monotonic()
+    budget = Budget(proc.pid, timeout) if timeout is not None else None  # (see clock.py)
     try:
         while True:
             try:
@@ -129,7 +129,7 @@ def _count_subprocess(nvars, clauses, projection, timeout: Optional[float], canc
                 pass
             if _is_cancelled(cancel):
                 raise CountCancelled()
-            if timeout is not None and time.monotonic() - start > timeout:
+            if budget is not None and budget.spent():
                 raise CountTimeout(f"no answer within {timeout:g} s")
     finally:
         children.kill(proc)

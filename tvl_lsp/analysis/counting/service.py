@@ -28,6 +28,7 @@ t-wise sampling needs no compilation (:mod:`tvl_lsp.analysis.sampling`: a warm S
 
 from __future__ import annotations
 
+import logging
 import os
 import random
 import threading
@@ -57,7 +58,11 @@ MIN_FALLBACK_BUDGET = 0.2  # seconds: less is not worth starting pyganak's proce
 REDUCE_SHARE = 0.1  # of d4's time budget, the most the optional reductions (backbone...) take
 REDUCTION_TAG = "c tvl-lsp-reduction "
 
-MEMORY = C.MemoryCache(8)
+# parsed circuits kept in memory: at most 8, and 8 million characters of d4's NNF text in all
+# (a parsed circuit takes 25-50 bytes per character: freebsd-8.0.0's, 14 M characters, 330 MB)
+MAX_CIRCUIT_CHARS = 8_000_000
+MEMORY = C.MemoryCache(8, MAX_CIRCUIT_CHARS)
+_log = logging.getLogger("tvl_lsp.counting")
 DISK = C.DiskCache()
 # d4 failures, remembered for this process: key -> (reason, budget it had)
 _FAILED: dict[str, tuple[str, Optional[float]]] = {}
@@ -182,7 +187,22 @@ class CNFCounter:
         return got
 
     def d4_usable(self) -> bool:
-        return self.determined and self.key not in _FAILED
+        return self.determined and self._failure() is None
+
+    def _failure(self, timeout: Optional[float] = None, any_budget: bool = True) -> Optional[str]:
+        """Why d4 is not tried again for this CNF in this process (it failed, or ran out of a
+        budget at least ``timeout``; ``any_budget``: whatever the budget), or None.  A circuit
+        another process has put in the disk cache meanwhile (a count retried in the
+        background with a longer budget) wins over a remembered failure."""
+        failed = _FAILED.get(self.key)
+        if failed is None:
+            return None
+        if not (any_budget or failed[1] is None or (timeout is not None and timeout <= failed[1])):
+            return None
+        if DISK.has(self.key):
+            _FAILED.pop(self.key, None)
+            return None
+        return failed[0]
 
     def compiled(self, timeout: Optional[float] = None, cancel: CancelLike = None,
                  progress: Progress = None, need_nnf: bool = False) -> tuple[Optional[str], int, str]:
@@ -193,9 +213,9 @@ class CNFCounter:
         got = MEMORY.get(self.key)
         if got is not None:
             return None, -1, "memory"
-        failed = _FAILED.get(self.key)
-        if failed is not None and (failed[1] is None or (timeout is not None and timeout <= failed[1])):
-            raise EngineFailed(failed[0])
+        failed = self._failure(timeout, any_budget=False)
+        if failed is not None:
+            raise EngineFailed(failed)
         with _lock_for(self.key):
             if MEMORY.get(self.key) is not None:
                 return None, -1, "memory"
@@ -300,7 +320,7 @@ class CNFCounter:
                 return None  # damaged (a writer died, a disk error): compile again
             _FAILED[self.key] = (f"d4 wrote an unreadable d-DNNF: {e}", None)
             raise EngineFailed(_FAILED[self.key][0]) from e
-        MEMORY.put(self.key, circ)
+        MEMORY.put(self.key, circ, len(text))
         return circ
 
     def circuit(self, timeout: Optional[float] = None, cancel: CancelLike = None,
@@ -382,9 +402,9 @@ class CNFCounter:
             job = _JOBS.get(self.key)
             if job is not None and (not job.done.is_set() or job.error is not None):
                 return self._status_of(job)
-            failed = _FAILED.get(self.key)
-            if failed is not None and (failed[1] is None or (timeout is not None and timeout <= failed[1])):
-                return CompileStatus("failed", message=failed[0])
+            failed = self._failure(timeout, any_budget=False)
+            if failed is not None:
+                return CompileStatus("failed", message=failed)
             job = _JOBS[self.key] = _Job(owner)
 
         def progress(msg: str) -> None:
@@ -392,7 +412,8 @@ class CNFCounter:
 
         def run() -> None:
             try:
-                self.circuit(timeout, job.cancel, progress)
+                comp = self.circuit(timeout, job.cancel, progress)
+                _log.debug("%s: circuit ready in %.2f s (%s)", self.label, comp.seconds, comp.source)
             except (CountTimeout, EngineFailed) as e:
                 job.error = str(e)
             except CountCancelled:

@@ -124,6 +124,9 @@ def cpp_spec(m: str, prefix: Optional[str], nargs: int) -> Optional[dict]:
             spec = _CPP_METHODS.get(m) if m not in ("get", "set", "call", "param") else None
             if spec is None:
                 return None
+            if spec["api"] == "rclcpp":
+                # a project's factory, ns::create_subscription<T>(node, "topic", ...): the node first
+                spec = dict(spec, skip_nodes=True)
         return _ok(spec, nargs)
     if prefix == "" and m in _CPP_UNQUALIFIED:
         return _ok(_CPP_FREE[_CPP_UNQUALIFIED[m]], nargs)

@@ -16,10 +16,11 @@ import re
 from typing import Optional
 
 from . import apis
-from .cpp_helpers import (_callee, _declarator_name, _define_ir, _function_declarator, _function_type_param,
-                          _is_nodehandle, _is_nodeish_type, _is_string_type, _ptype, _string_value, _vexing)
+from .cpp_helpers import (_C_STRING_WRITERS, _callee, _declarator_name, _define_ir, _fcall, _format_ir,
+                          _function_declarator, _function_type_param, _is_nodehandle, _is_nodeish_type,
+                          _is_string_type, _nodekind, _ptype, _string_value, _value_type, _vexing)
 
-VERSION = 7
+VERSION = 11
 MAX_CALLS = 5000
 MAX_RECORDS = 4000
 
@@ -27,18 +28,6 @@ _AS_TYPE = {"as_double": "double", "as_int": "int", "as_bool": "bool", "as_strin
             "as_double_array": "double[]", "as_integer_array": "int[]", "as_bool_array": "bool[]",
             "as_string_array": "string[]", "as_byte_array": "int[]"}
 _CLIENT = re.compile(r"client", re.I)
-_MATH_CONST = re.compile(r"\bM_(?:PI|PI_2|PI_4|E|SQRT2|LN2)\b")
-
-
-def _arith_type(t: str) -> Optional[str]:
-    """The type of an arithmetic expression of literals (``M_PI / 180.0``, ``2 * 3``)."""
-    u = _MATH_CONST.sub("1.0", t)
-    toks = re.findall(r"0[xX][0-9a-fA-F]+[uUlL]*|\d+\.?\d*(?:[eE][-+]?\d+)?[fFuUlL]*|\.\d+(?:[eE][-+]?\d+)?[fF]?"
-                      r"|[A-Za-z_]\w*|\S", u)
-    if not toks or any(not (x[0].isdigit() or x[0] == "." or x in "+-*/()") for x in toks):
-        return None
-    return "double" if any("." in x or ("e" in x.lower() and not x.lower().startswith("0x")) for x in toks) \
-        or "/" in toks else "int"
 _PLACEHOLDER = re.compile(r"^(?:(?:boost|std)::placeholders::|::)?_(\d)$")
 _NODEISH = re.compile(r"^(?:\*?this|n|nh|pnh|nh_?|n_|node|node_|priv_nh_?|private_nh_?|nh_priv_?|nh_private_?|"
                       r"private_node_handle_?|node_handle_?|nodehandle_?|.*_nh_?|nh_.*|.*node_handle.*|.*_node_?|"
@@ -68,9 +57,10 @@ class _Walker:
         self.cls: list[str] = []
         self.fn: Optional[_Fn] = None
         self.hints: dict[int, str] = {}   # call start -> parameter type (get_parameter(..).as_double())
+        self.juxt: dict[int, list] = {}   # argument start -> the macros written after it (A_S X_S)
         self.f: dict = {"v": VERSION, "calls": [], "consts": {}, "aliases": {}, "using_decls": {}, "using_ns": [],
                         "members": {}, "mtypes": {}, "funcs": {}, "ctors": [], "fcalls": [], "includes": [],
-                        "minits": [], "notes": []}
+                        "minits": [], "binits": [], "gsets": [], "pdefaults": {}, "notes": []}
 
     # ------------------------------------------------------------ helpers
     def t(self, n) -> str:
@@ -141,12 +131,13 @@ class _Walker:
         for _ in parts:
             self.ns.pop()
 
-    def v_class_specifier(self, n) -> None:
+    def v_class_specifier(self, n, cname: Optional[str] = None) -> None:
         name = n.child_by_field_name("name")
         body = n.child_by_field_name("body")
         if body is None:
             return
-        cname = self.t(name).split("<")[0].split("::")[-1].strip() if name is not None else "<anonymous>"
+        if cname is None:
+            cname = self.t(name).split("<")[0].split("::")[-1].strip() if name is not None else "<anonymous>"
         self.cls.append(cname)
         saved, self.fn = self.fn, None
         self.walk(body)
@@ -172,7 +163,10 @@ class _Walker:
             return
         for i, ch in enumerate(n.children):
             if n.field_name_for_child(i) == "declarator" and ch.type == "type_identifier":
-                self._alias(self.t(ch), self.t(typ))
+                if typ.type in ("struct_specifier", "class_specifier") and typ.child_by_field_name("name") is None:
+                    self.v_class_specifier(typ, self.t(ch))     # typedef struct { int rate; } Config;
+                else:
+                    self._alias(self.t(ch), self.t(typ))
 
     def v_using_declaration(self, n) -> None:
         text = " ".join(self.t(n).split())
@@ -213,7 +207,7 @@ class _Walker:
         short = parts[-1]
         params = self._params(fd)
         key = f"{cls}::{short}" if cls else short
-        self.f["funcs"].setdefault(key, []).append([[p[1], p[0]] for p in params])
+        self._sig(key, params)
         saved = self.fn
         self.fn = _Fn(short, cls, {p[0]: (i, p[1], p[2]) for i, p in enumerate(params) if p[0]})
         for ch in n.named_children:
@@ -223,6 +217,14 @@ class _Walker:
         if body is not None:
             self.walk(body)
         self.fn = saved
+
+    def _sig(self, key: str, params: list) -> None:
+        """A function's signature, and its parameters' defaults (a header's declaration often has
+        them: ``Robot(const std::string& topic = "robot_state")``)."""
+        self.f["funcs"].setdefault(key, []).append([[p[1], p[0]] for p in params])
+        for i, p in enumerate(params):
+            if p[2] is not None and p[0]:
+                self.f["pdefaults"].setdefault(key, {})[f"{i}:{p[0]}"] = p[2]
 
     def _params(self, fd) -> list[tuple[str, str]]:
         out = []
@@ -268,8 +270,12 @@ class _Walker:
             argn = list(args.named_children)
             irs = [self.ir(a) for a in argn]
             self.f["members"].setdefault(cls, {}).setdefault(name, []).append(["ctor", None, irs])
+            if argn and name != cls and len(self.f["binits"]) < MAX_RECORDS:
+                # (when ``name`` is a base class: ``Derived(nh) : Base(nh, 1)`` constructs a Base)
+                self.f["binits"].append({"t": name, "args": irs, "nk": [self.nodekind(a) for a in argn]})
             if len(self.f["minits"]) < MAX_RECORDS and argn:
                 self.f["minits"].append({"cls": cls, "m": name, "args": irs, "nodeish": [self.nodeish(a) for a in argn],
+                                         "nk": [self.nodekind(a) for a in argn],
                                          "texts": [self.t(a)[:200] for a in argn], "pos": self.pos(fi),
                                          "npos": [self.pos(a) for a in argn], "ns": list(self.ns)})
             for a in argn:
@@ -279,6 +285,21 @@ class _Walker:
     def v_field_declaration(self, n) -> None:
         cls = self.cls[-1] if self.cls else None
         typ = n.child_by_field_name("type")
+        if typ is not None and typ.type in ("struct_specifier", "class_specifier") and \
+                typ.child_by_field_name("body") is not None:
+            # struct { int rate; } config_;  (its fields' types, for getParam("rate", config_.rate))
+            if typ.child_by_field_name("name") is None:
+                first = next((_declarator_name(self, ch) for i, ch in enumerate(n.children)
+                              if n.field_name_for_child(i) == "declarator"), None)
+                if first and cls:
+                    anon = f"{cls}.{first}"
+                    self.v_class_specifier(typ, anon)
+                    for i, ch in enumerate(n.children):
+                        if n.field_name_for_child(i) == "declarator" and _declarator_name(self, ch):
+                            self.f["mtypes"].setdefault(cls, {})[_declarator_name(self, ch)] = anon
+                    return
+            else:
+                self.v_class_specifier(typ)
         static = any(c.type == "storage_class_specifier" and self.t(c) == "static" for c in n.children)
         default = n.child_by_field_name("default_value")
         for i, ch in enumerate(n.children):
@@ -288,7 +309,7 @@ class _Walker:
             if fd is not None:
                 name = self.t(fd.child_by_field_name("declarator")).split("::")[-1]
                 key = f"{cls}::{name}" if cls else name
-                self.f["funcs"].setdefault(key, []).append([[p[1], p[0]] for p in self._params(fd)])
+                self._sig(key, self._params(fd))
                 continue
             name = _declarator_name(self, ch)
             if not name or not cls:
@@ -339,7 +360,7 @@ class _Walker:
             parts = name.split("::")
             cls = parts[-2] if len(parts) >= 2 else (self.cls[-1] if self.cls else None)
             key = f"{cls}::{parts[-1]}" if cls else parts[-1]
-            self.f["funcs"].setdefault(key, []).append([[p[1], p[0]] for p in self._params(fd)])
+            self._sig(key, self._params(fd))
             return
         name = _declarator_name(self, dd) if dd is not None else None
         if not name:
@@ -364,6 +385,9 @@ class _Walker:
                 irs = [["nhref", x] if self.nodeish(a) and k == 0 else x for k, (a, x) in enumerate(zip(args, irs))]
             ir = ["ctor", tt, irs] if not _is_string_type(tt) else (irs[0] if irs else ["s", ""])
             self._construction(tt, args, irs, dd)
+        elif value is not None and (value.type in ("null", "nullptr") or self.t(value).strip() in ("NULL", "nullptr", "0")) \
+                and ("*" in full_t or "Ptr" in full_t or "ptr" in full_t):
+            ir = None   # a null pointer: the handle it will point to is set later
         elif value is not None:
             ir = self.ir(value)
             if value.type in ("new_expression",) or (value.type == "call_expression" and "make_" in self.t(value)[:60]):
@@ -372,6 +396,9 @@ class _Walker:
             ir = ["ctor", tt, []]
         else:
             ir = None
+            if self.fn is not None and re.match(r"[A-Z]\w*$", tt.split("::")[-1]) and "*" not in full_t and \
+                    "&" not in full_t and len(self.f["binits"]) < MAX_RECORDS:
+                self.f["binits"].append({"t": tt, "args": [], "nk": []})   # Robot robot;: its defaults
         if self.fn is not None and "::" not in name:
             entry = {"t": full_t, "ir": ir, "d": self.fn.depth}
             if value is not None and value.type == "lambda_expression":
@@ -396,6 +423,7 @@ class _Walker:
         if len(self.f["ctors"]) >= MAX_RECORDS:
             return
         self.f["ctors"].append({"t": " ".join(tt.split()), "args": irs, "nodeish": [self.nodeish(a) for a in args],
+                                "nk": [self.nodekind(a) for a in args],
                                 "texts": [self.t(a)[:200] for a in args], "pos": self.pos(where),
                                 "npos": [self.pos(a) for a in args], "ns": list(self.ns), "cls": self.cur_cls,
                                 "fn": self.fn.name if self.fn else None})
@@ -468,16 +496,37 @@ class _Walker:
             cls = self.cur_cls
             if cls:
                 self.f["members"].setdefault(cls, {}).setdefault(name, []).append(ir)
+            elif fn is not None and len(self.f["gsets"]) < MAX_RECORDS:
+                self.f["gsets"].append([name, ir])   # a global set in a function: g_nh = new ros::NodeHandle()
         elif lt == "field_expression":
             arg = left.child_by_field_name("argument")
             field = left.child_by_field_name("field")
             if arg is not None and field is not None and self.t(arg) == "this" and self.cur_cls:
                 self.f["members"].setdefault(self.cur_cls, {}).setdefault(self.t(field), []).append(ir)
+            elif arg is not None and field is not None and arg.type == "identifier" and self.fn is not None \
+                    and self.t(arg) in self.fn.locals and self.t(left)[len(self.t(arg)):].lstrip().startswith("."):
+                # desc.name = "min_neighbors"; declare_parameter(desc.name, ...): a local struct's field
+                key = f"{self.t(arg)}.{self.t(field)}"
+                fn = self.fn
+                loc = fn.locals.get(key)
+                if loc is None:
+                    fn.locals[key] = {"t": None, "ir": ir, "d": fn.depth, "set": True}
+                elif fn.depth > loc.get("d", 0) or fn.depth:
+                    loc["ir"] = ["dyn", key]
+                else:
+                    loc["ir"] = ir
 
     # ------------------------------------------------------------ expressions
     def ir(self, n, depth: int = 0):
         if depth > 40:
             return ["dyn", self.t(n)[:200]]
+        more = self.juxt.get(n.start_byte)
+        if more and n.type in ("identifier", "string_literal", "qualified_identifier"):
+            head = self.juxt.pop(n.start_byte)
+            try:
+                return ["cat", [self.ir(n, depth + 1)] + [self.ir(c, depth + 1) for c in head]]
+            finally:
+                self.juxt[n.start_byte] = head
         ty = n.type
         if ty == "string_literal":
             return ["s", _string_value(self, n)]
@@ -497,6 +546,10 @@ class _Walker:
             return self.ir(inner, depth + 1) if inner is not None else ["dyn", self.t(n)]
         if ty in ("identifier", "type_identifier"):
             return self.ident(self.t(n))
+        if ty == "qualified_identifier" and any(c.type == "::" and c.start_byte == c.end_byte for c in n.children):
+            # PREFIX_S NAME_S: two string macros side by side, read with a missing "::"
+            return ["cat", [["id", self.t(c), self.cur_cls, list(self.ns)] if c.type == "namespace_identifier"
+                            else self.ir(c, depth + 1) for c in n.named_children]]
         if ty == "qualified_identifier":
             return ["id", self.t(n).replace(" ", "").lstrip(":"), self.cur_cls, list(self.ns)]
         if ty == "field_expression":
@@ -504,6 +557,10 @@ class _Walker:
             field = n.child_by_field_name("field")
             if arg is not None and field is not None and self.t(arg) == "this":
                 return ["mem", self.cur_cls, self.t(field)]
+            if arg is not None and field is not None and arg.type == "identifier" and self.fn is not None:
+                loc = self.fn.locals.get(f"{self.t(arg)}.{self.t(field)}")
+                if loc is not None and loc["ir"] is not None and self.t(n)[len(self.t(arg)):].lstrip()[:1] == ".":
+                    return loc["ir"]
             return ["dyn", self.t(n)]
         if ty == "binary_expression":
             op = n.child_by_field_name("operator")
@@ -538,7 +595,7 @@ class _Walker:
     def call_ir(self, n, depth: int):
         fnode = n.child_by_field_name("function")
         args = n.child_by_field_name("arguments")
-        argn = list(args.named_children) if args is not None else []
+        argn = self.arglist(args)
         recv, m, targs, prefix = _callee(self, fnode)
         if m in ("string", "basic_string", "string_view", "QString", "String") and prefix in ("std", "", None, "ros"):
             return self.ir(argn[0], depth + 1) if argn else ["s", ""]
@@ -613,11 +670,30 @@ class _Walker:
             return bool(_NODEISH.match(name))
         return False
 
+    def nodekind(self, a) -> Optional[bool]:
+        return _nodekind(self, a)
+
+    def arglist(self, args) -> list:
+        """The arguments of a call; ``f(PREFIX_S NAME_S, 1)`` (two string macros side by side, which
+        tree-sitter reads as an argument and an error) is one argument, their concatenation."""
+        if args is None:
+            return []
+        out = []
+        for ch in args.named_children:
+            if ch.type == "ERROR" and out and ch.named_children and \
+                    all(c.type in ("identifier", "string_literal", "qualified_identifier") for c in ch.named_children) \
+                    and b"," not in self.src[out[-1].end_byte:ch.start_byte]:
+                self.juxt.setdefault(out[-1].start_byte, []).extend(ch.named_children)
+                continue
+            if ch.type != "comment":
+                out.append(ch)
+        return out
+
     # ------------------------------------------------------------ calls
     def v_call_expression(self, n) -> None:
         fnode = n.child_by_field_name("function")
         args = n.child_by_field_name("arguments")
-        argn = list(args.named_children) if args is not None else []
+        argn = self.arglist(args)
         recv, m, targs, prefix = _callee(self, fnode)
         if m == "reset" and recv is not None and len(argn) == 1 and argn[0].type == "new_expression":
             typ = argn[0].child_by_field_name("type")
@@ -627,6 +703,9 @@ class _Walker:
             if typ is not None and "NodeHandle" in self.t(typ) and a2 and self.nodeish(a2[0]):
                 irs[0] = ["nhref", irs[0]]
             self.assign(recv, ["ctor", self.t(typ) if typ is not None else None, irs])
+        if m in _C_STRING_WRITERS and recv is None and argn and argn[0].type == "identifier":
+            # sprintf(buf, "joint%u_name", i): buf is what the format makes of the arguments
+            self.assign(argn[0], _format_ir(self, m, argn))
         if m in _AS_TYPE and recv is not None and recv.type == "call_expression":
             self.hints[recv.start_byte] = _AS_TYPE[m]
         if m in apis.PARAM_METHODS and recv is not None and self._param_client(recv):
@@ -646,14 +725,10 @@ class _Walker:
                                           else None, self.t(n)[:200]])
             if m in ("make_shared", "make_unique", "allocate_shared") and targs:
                 self._construction(self.t(targs[0]), argn, [self.ir(a) for a in argn], n)
-            elif argn and recv is None and len(self.f["fcalls"]) < MAX_RECORDS and m not in apis.NOT_USER_FUNCS:
+            elif argn and len(self.f["fcalls"]) < MAX_RECORDS and m not in apis.NOT_USER_FUNCS:
                 irs = [self.ir(a) for a in argn]
                 if any(x[0] not in ("dyn",) for x in irs):
-                    self.f["fcalls"].append({"f": m, "args": irs})
-            elif argn and recv is not None and len(self.f["fcalls"]) < MAX_RECORDS and m not in apis.NOT_USER_FUNCS:
-                irs = [self.ir(a) for a in argn]
-                if any(x[0] not in ("dyn",) for x in irs):
-                    self.f["fcalls"].append({"f": m, "args": irs})
+                    self.f["fcalls"].append(_fcall(self, m, recv, prefix, argn, irs))
         if fnode is not None and fnode.type in ("field_expression",):
             a = fnode.child_by_field_name("argument")
             if a is not None:
@@ -715,6 +790,8 @@ class _Walker:
             call["default"] = self.t(argn[di])[:120]
             if not call.get("vtype"):
                 call["vtype"] = self.value_type(argn[di])
+            elif call["vtype"].startswith("@") and di != vi:
+                call["dtype"] = self.value_type(argn[di])   # when the variable's type is not found
         if spec["kind"].startswith("param") and not call.get("vtype") and n.start_byte in self.hints:
             call["vtype"] = self.hints[n.start_byte]
         if spec.get("nharg"):
@@ -822,57 +899,7 @@ class _Walker:
         return self.ir(a)
 
     def value_type(self, a) -> Optional[str]:
-        ty = a.type
-        t = self.t(a).strip()
-        if ty == "number_literal":
-            return "double" if re.search(r"[.eE]", t) and not t.lower().startswith("0x") else "int"
-        if ty in ("true", "false"):
-            return "bool"
-        if ty in ("string_literal", "raw_string_literal", "concatenated_string"):
-            return "string"
-        if ty == "unary_expression" and a.named_children and a.named_children[-1].type == "number_literal":
-            return self.value_type(a.named_children[-1])
-        if ty in ("binary_expression", "parenthesized_expression"):
-            return _arith_type(t)
-        if ty in ("compound_literal_expression",) or (ty == "call_expression" and t.startswith(("std::vector", "vector"))):
-            m = re.match(r"(?:std::)?vector\s*<\s*([\w: ]+)\s*>", t)
-            if m:
-                return _ptype(f"std::vector<{m.group(1)}>")
-            if re.match(r"(?:std::)?string\s*[{(]", t):
-                return "string"
-        if ty == "call_expression":
-            fnode = a.child_by_field_name("function")
-            ft = self.t(fnode) if fnode is not None else ""
-            if ft in ("std::string", "string") or re.search(r"(\.|->)\s*(c_str|str|string)$", ft):
-                return "string"
-            cm = re.match(r"(?:static_cast|[\w:]*numeric_cast)\s*<\s*([\w: <>]+?)\s*>$", ft.replace("\n", " "))
-            if cm:
-                return _ptype(cm.group(1))
-            if ft.endswith("ParameterValue"):
-                args = a.child_by_field_name("arguments")
-                if args is not None and args.named_children:
-                    return self.value_type(args.named_children[0])
-            return None
-        if ty == "identifier":
-            fn = self.fn
-            if fn is not None and t in fn.locals:
-                return _ptype(fn.locals[t]["t"])
-            if fn is not None and t in fn.params:
-                return _ptype(fn.params[t][1])
-            return "@" + t  # a member: its type is known when linking
-        if ty == "field_expression":
-            arg = a.child_by_field_name("argument")
-            field = a.child_by_field_name("field")
-            if arg is not None and field is not None and self.t(arg) == "this":
-                return "@" + self.t(field)
-            if re.search(r"\.(linear|angular|position|orientation|translation|rotation|point|vector)\.[xyzw]$", t):
-                return "double"  # a geometry_msgs field (float64)
-        if ty == "initializer_list":
-            kids = a.named_children
-            if kids:
-                inner = self.value_type(kids[0])
-                return inner + "[]" if inner and not inner.startswith("@") else None
-        return None
+        return _value_type(self, a)
 
     def cb_ir(self, a):
         ty = a.type

@@ -320,6 +320,13 @@ def cpp_programs(pf: PackageFiles, includes_of: Callable[[str], list[str]], has_
                 out.append(Program(lib, "library", "cpp", files, None, [],
                                    frozenset(c.split("::")[-1] for c in classes)))
         for t in cm.targets.values():
+            if t.kind == "library":
+                # a library another library links (a nodelet's or plugin's helper library): its
+                # calls are read with the linking library's, where its functions are called
+                seen = set()
+                _lib_sources(cm, t.name, seen)
+                linked |= seen - {t.name}
+        for t in cm.targets.values():
             if t.kind == "library" and t.name not in linked:
                 files = closure(_lib_sources(cm, t.name, set()))
                 covered.update(files)

@@ -28,8 +28,13 @@ class _CppIndex:
         self.ctors: dict[str, list] = {}
         self.fcalls: dict[str, list] = {}
         self.nh_memo: dict[str, Value] = {}
+        self.pdefaults: dict[str, dict] = {}
         for _, f in files:
             for k, v in f.get("consts", {}).items():
+                lst = self.consts.setdefault(k, [])
+                if v not in lst:
+                    lst.append(v)
+            for k, v in f.get("gsets", []):
                 lst = self.consts.setdefault(k, [])
                 if v not in lst:
                     lst.append(v)
@@ -39,6 +44,8 @@ class _CppIndex:
                     d.setdefault(m, []).extend(irs)
             for c, mem in f.get("mtypes", {}).items():
                 self.mtypes.setdefault(c, {}).update(mem)
+            for k, d in f.get("pdefaults", {}).items():
+                self.pdefaults.setdefault(k, {}).update(d)
             for k, sigs in f.get("funcs", {}).items():
                 self.funcs.setdefault(k, []).extend(sigs)
             for k, v in f.get("aliases", {}).items():
@@ -48,11 +55,17 @@ class _CppIndex:
             for u in f.get("using_ns", []):
                 if u not in self.using_ns:
                     self.using_ns.append(u)
-            for c in f.get("ctors", []):
-                base = split_template(c["t"])[0].replace(" ", "").rstrip("*&").split("::")[-1]
-                self.ctors.setdefault(base, []).append(c["args"])
+            for c in f.get("ctors", []) + f.get("binits", []):
+                self.ctors.setdefault(_base_name(c["t"]), []).append(c)
             for c in f.get("fcalls", []):
-                self.fcalls.setdefault(c["f"], []).append(c["args"])
+                self.fcalls.setdefault(c["f"], []).append(c)
+        for _, f in files:   # a member constructed in an initializer list: ``sub_(nh, "x")``
+            for c in f.get("minits", []):
+                mt = self.member_type(c["cls"], c["m"])
+                if mt and not re.search(r"[&*]|ptr\b|Ptr\b|ptr<", mt):   # (a reference or pointer: no construction)
+                    b = _base_name(mt)
+                    if b != c["m"]:
+                        self.ctors.setdefault(b, []).append(c)
 
     def alias_lookup(self, cls: Optional[str], ns: list[str]) -> Callable[[str], Optional[str]]:
         def look(head: str) -> Optional[str]:
@@ -94,12 +107,13 @@ def _resolver_cpp(ix: _CppIndex) -> Resolver:
         return None
 
     def member(cls: str, name: str) -> Optional[list]:
-        return ix.members.get(cls, {}).get(name)
+        return _reachable(ix, ix.members.get(cls, {}).get(name))
 
     def arg(cls: Optional[str], fn: str, idx: int, name: str = "", default=None) -> Optional[list]:
-        calls = ix.ctors.get(fn, []) if cls and fn == cls else ix.fcalls.get(fn, [])
+        if default is None:     # declared in a header: Robot(const std::string& topic = "robot_state");
+            default = ix.pdefaults.get(f"{cls}::{fn}" if cls else fn, {}).get(f"{idx}:{name}")
         out = []
-        for c in calls:
+        for c in _calls(ix, cls, fn, idx, name):
             if idx < len(c):
                 out.append(c[idx])
             elif default is not None:
@@ -107,6 +121,95 @@ def _resolver_cpp(ix: _CppIndex) -> Resolver:
         return out or None
 
     return Resolver(const, member, arg, ix.member_type)
+
+
+def _base_name(t: str) -> str:
+    return split_template(t or "")[0].replace(" ", "").rstrip("*&").split("::")[-1]
+
+
+def _overload(ix: _CppIndex, cls: Optional[str], fn: str, idx: int, name: str) -> Optional[list]:
+    """The signature ([[type, name], ...]) of the overload of ``cls::fn`` whose parameter ``idx``
+    is called ``name`` (None when the program does not show it)."""
+    sigs = ix.funcs.get(f"{cls}::{fn}" if cls else fn, [])
+    for sig in sigs:
+        if idx < len(sig) and sig[idx][1] == name:
+            return sig
+    return None
+
+
+def _calls(ix: _CppIndex, cls: Optional[str], fn: str, idx: int, name: str = "") -> list[list]:
+    """The argument lists the program calls function ``fn`` (a method of ``cls``, its
+    constructor when ``fn == cls``) with, leaving out the calls that are surely of another
+    function of that name: a method of another class (by the receiver's type, the qualifier, or
+    the calling class's own method), or another overload (a node handle passed where the
+    parameter is none, or the other way round; more arguments than the parameters)."""
+    ctor = bool(cls) and fn == cls
+    recs = ix.ctors.get(fn, []) if ctor else ix.fcalls.get(fn, [])
+    sig = _overload(ix, cls, fn, idx, name) if name else None
+    out = []
+    for c in recs:
+        args = c["args"]
+        if sig is not None:
+            if len(args) > len(sig):
+                continue
+            dflt = ix.pdefaults.get(f"{cls}::{fn}" if cls else fn, {})
+            if any(f"{j}:{sig[j][1]}" not in dflt for j in range(len(args), len(sig))):
+                continue    # too few arguments for this overload
+            nk = c.get("nk") or []
+            if any(k is not None and j < len(sig) and _param_is_node(sig[j][0]) is not None
+                   and k != _param_is_node(sig[j][0]) for j, k in enumerate(nk)):
+                continue
+        if cls and not ctor and not _same_class(ix, c, cls, fn):
+            continue
+        out.append(args)
+    return out
+
+
+def _param_is_node(t: str) -> Optional[bool]:
+    t = (t or "").replace("const", "").replace("&", "").replace("*", "").strip()
+    if not t or "auto" in t or re.fullmatch(r"[A-Z]\w{0,2}|\w*T", t):
+        return None     # a template parameter: anything
+    return bool(re.search(r"NodeHandle|rclcpp::Node\b|LifecycleNode|\bNode\b|node_interfaces|ImageTransport", t))
+
+
+def _same_class(ix: _CppIndex, c: dict, cls: str, fn: str) -> bool:
+    """Whether a call record may call method ``fn`` of class ``cls``."""
+    q = c.get("q")
+    if q:
+        last = q.split("::")[-1].split("<")[0]
+        return last == cls or f"{last}::{fn}" not in ix.funcs
+    if c.get("r"):
+        rt = c.get("rt")
+        if not rt and c.get("rm"):
+            rt = ix.member_type(c["rm"][0], c["rm"][1])
+        if not rt:
+            return True
+        words = set(re.findall(r"\w+", rt))
+        return cls in words or not any(f"{w}::{fn}" in ix.funcs for w in words)
+    own = c.get("c")
+    return not own or own == cls or f"{own}::{fn}" not in ix.funcs
+
+
+def _reachable(ix: _CppIndex, irs: Optional[list]) -> Optional[list]:
+    """The ways a member is set, without those made in a constructor the program never calls
+    (``SlamGMapping(nh, pnh) : private_nh_(pnh)`` where it only constructs ``SlamGMapping()``);
+    all of them when none would be left."""
+    if not irs or len(irs) < 2:
+        return irs
+    keep = [x for x in irs if not _from_uncalled_ctor(ix, x)]
+    return keep or irs
+
+
+def _from_uncalled_ctor(ix: _CppIndex, x) -> bool:
+    if not (isinstance(x, list) and x and x[0] == "ctor" and x[1] is None):
+        return False
+    for a in x[2]:
+        if isinstance(a, list) and a and a[0] == "nhref":
+            a = a[1]
+        if isinstance(a, list) and len(a) > 5 and a[0] == "arg" and a[1] and a[1] == a[2]:
+            if not _calls(ix, a[1], a[2], a[3], a[4]):
+                return True
+    return False
 
 
 def _nh_namespace(r: Resolver, ix: _CppIndex, e, depth: int = 0) -> Value:
@@ -150,7 +253,7 @@ def _nh_namespace_of(r: Resolver, ix: _CppIndex, e, depth: int) -> Value:
         return v
     if k in ("id", "mem"):
         cls, name = (e[2], e[1]) if k == "id" else (e[1], e[2])
-        irs = ix.members.get(cls, {}).get(name) if cls else None
+        irs = _reachable(ix, ix.members.get(cls, {}).get(name)) if cls else None
         if irs:
             vals = [_nh_namespace(r, ix, x, depth + 1) for x in irs]
             return agree(vals, name)
@@ -162,7 +265,7 @@ def _nh_namespace_of(r: Resolver, ix: _CppIndex, e, depth: int) -> Value:
         return Value("")
     if k == "arg":
         cls, fn, idx = e[1], e[2], e[3]
-        calls = ix.ctors.get(fn, []) if cls and fn == cls else ix.fcalls.get(fn, [])
+        calls = _calls(ix, cls, fn, idx, e[4] if len(e) > 4 else "")
         vals = [_nh_namespace(r, ix, c[idx], depth + 1) for c in calls if idx < len(c)]
         if not vals:
             return Value("")  # called from elsewhere (a plugin's initialize, another program): the node's
@@ -237,11 +340,30 @@ def _first_param(ix: _CppIndex, desc, ctx: str) -> tuple[Optional[str], Optional
 
 
 def _param_type_cpp(ix: _CppIndex, call: dict, scope_cls: Optional[str]) -> Optional[str]:
+    t = _param_type_cpp1(ix, call, scope_cls)
+    d = call.get("dtype")
+    if t is None and d and not d.startswith("@"):
+        return d        # param("x", settings.x, 1.0): the default's type where the variable's is unknown
+    return t
+
+
+def _param_type_cpp1(ix: _CppIndex, call: dict, scope_cls: Optional[str]) -> Optional[str]:
     from .cpp_helpers import _ptype
     targs = call.get("targs")
     if targs:
         return _ptype(targs[0])
     v = call.get("vtype")
+    if v and v.startswith("@") and "." in v:
+        # a struct's field: @var.field (var a member of the class), @:Type.field (a local's type)
+        var, _, fld = v[1:].rpartition(".")
+        st = var[1:] if var.startswith(":") else ix.member_type(scope_cls, var)
+        if not st:
+            return None
+        base = _base_name(st)
+        fields = ix.mtypes.get(base) or ix.mtypes.get(f"{scope_cls}.{var}") or {}
+        if not fields and ix.aliases.get(base):
+            fields = ix.mtypes.get(_base_name(ix.aliases[base]), {})
+        return _ptype(fields.get(fld))
     if v and v.startswith("@"):
         t = _ptype(ix.member_type(scope_cls, v[1:]))
         if t is None:
@@ -613,11 +735,11 @@ def param_types(eps: list[Endpoint]) -> None:
     """A parameter read, written or deleted without a type of its own has the type its program
     declares or reads it with elsewhere (one type only)."""
     known: dict[str, set] = {}
-    for e in eps:
-        if e.kind.startswith("param") and e.kind != "param_search" and e.type and not e.dynamic:
+    for e in eps:   # (a dynamic name with its {expression}: the same expression, e.g. in a loop)
+        if e.kind.startswith("param") and e.kind != "param_search" and e.type:
             known.setdefault(e.name, set()).add(e.type)
     for e in eps:
-        if e.kind.startswith("param") and e.kind != "param_search" and e.type is None and not e.dynamic:
+        if e.kind.startswith("param") and e.kind != "param_search" and e.type is None:
             ts = known.get(e.name)
             if ts and len(ts) == 1:
                 e.type = next(iter(ts))

@@ -15,7 +15,7 @@ from typing import Optional
 from . import apis
 from .types import python_type
 
-VERSION = 5
+VERSION = 6
 MAX_CALLS = 5000
 MAX_RECORDS = 4000
 _BLOCKS = ("if_statement", "for_statement", "while_statement", "try_statement", "with_statement",
@@ -103,6 +103,16 @@ class _Walker:
                     self.imports[self.t(alias)] = self.t(name)
                     self.f["imports"].append([self.t(name), 0, []])
 
+    def _bind(self, local: str, path: str) -> None:
+        """``local`` names ``path``; a name imported as two different message types (``if distro ==
+        'humble': from geometry_msgs.msg import Twist as CmdVel else: ... TwistStamped as CmdVel``)
+        is a type chosen at run time: no type."""
+        old = self.imports.get(local)
+        if old is not None and old != path and re.search(r"\.(msg|srv|action)\.", old + " " + path):
+            self.imports[local] = "?" + local
+            return
+        self.imports[local] = path
+
     def v_import_from_statement(self, n) -> None:
         mod = n.child_by_field_name("module_name")
         if mod is None:
@@ -122,15 +132,15 @@ class _Walker:
             if ch.type == "dotted_name":
                 local = self.t(ch)
                 names.append(local)
-                self.imports[local] = (modname + "." if modname else "") + local if level == 0 else "." * level + \
-                    (modname + "." if modname else "") + local
+                self._bind(local, (modname + "." if modname else "") + local if level == 0 else "." * level +
+                           (modname + "." if modname else "") + local)
             elif ch.type == "aliased_import":
                 name = ch.child_by_field_name("name")
                 alias = ch.child_by_field_name("alias")
                 if name is not None and alias is not None:
                     names.append(self.t(name))
-                    self.imports[self.t(alias)] = (modname + "." if modname else "") + self.t(name) if level == 0 \
-                        else "." * level + (modname + "." if modname else "") + self.t(name)
+                    self._bind(self.t(alias), (modname + "." if modname else "") + self.t(name) if level == 0
+                               else "." * level + (modname + "." if modname else "") + self.t(name))
         if any(c.type == "wildcard_import" for c in n.named_children):
             names.append("*")
             if level == 0 and modname.split(".")[-1] in ("msg", "srv", "action"):

@@ -200,7 +200,7 @@ class Resolver:
         if k == "arg":
             if len(e) > 6:
                 return self.arg(e[1], e[2], e[3], e[4], e[6])
-            return self.arg(e[1], e[2], e[3])
+            return self.arg(e[1], e[2], e[3], e[4] if len(e) > 4 else "")
         return None
 
 

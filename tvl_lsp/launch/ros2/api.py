@@ -267,6 +267,7 @@ def analyse_launch2(text: str, path: str, workspace_root: Optional[str] = None, 
             else:
                 needed = w.check_required(u, list(root_args), root_el, TRUE, root_el.tag_span or root_el.span,
                                           root=True)
+                needed += _required_behind_include(w, tops, root_args, needed)
             for k, v in root_args.items():
                 sc.configs[k] = [(c, x) for c, x in v if c != FALSE]
             for k in needed:  # the command line must give them (reported): their value is unknown
@@ -312,6 +313,24 @@ def choice_args(text: str, path: str) -> dict[str, list[str]]:
         return {}
     acts, _ = A.parse_description(doc.root, path)
     return {a.name: list(a.choices) for a in acts if isinstance(a, A.ArgA) and a.choices is not None}
+
+
+def _required_behind_include(w, tops: list, root_args: dict, needed: list) -> list:
+    """The file's own top-level args without default that launch's look-ahead did not report
+    because an include before them declares the same name (and passes it): without a value on
+    the command line launch still fails (at that include's substitution or at the declaration),
+    so the command line gives them -- their value is unknown, as for every required arg."""
+    from .values import UNSET_ARG
+    out = []
+    for a in tops:
+        if a.default is not None or a.cond is not None or a.name in root_args or a.name in needed or a.name in out:
+            continue
+        ent = a.entity
+        aspan = ent.attrs["name"].value_span if "name" in ent.attrs else ent.tag_span
+        w.fact(UNSET_ARG, f"arg '{a.name}' has no default: ros2 launch needs {a.name}:=... on the command line",
+               ent.path, aspan, TRUE, Severity.WARNING)
+        out.append(a.name)
+    return out
 
 
 def _run_timers(w: Walker, sc: Scope) -> None:

@@ -243,6 +243,13 @@ class NodeRules:
             what = "package"
         elif any(opaque(x) for _, _, x in okp):
             what = "executable"
+        elif any(p is not None and isinstance(x, str) and "/" in x for _, p, x in okp):
+            # launch_ros' ExecutableInPackage: shutil.which() of a name with a '/' looks at that path
+            # itself (not in the package): it runs only if that file is executable where it launches
+            span = (a.executable.span() if a.executable is not None else None) or el.tag_span or el.span
+            self.decline(el.path, span, "the executable of this node is a path: launch_ros starts it only if that "
+                         "file is executable on the machine that launches (it does not look in the package)", TRUE)
+            return
         elif any(n is not None and opaque(n) for _, n in names):
             what = "name"
         elif any(ns is not None and opaque(ns) for _, ns in nss):

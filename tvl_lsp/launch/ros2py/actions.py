@@ -25,6 +25,7 @@ from ...base.formula import FALSE, conj, disj, neg
 from ..model import Attr, Element
 from ..ros2 import actions as A
 from ..ros2.frontend import substitutions_of
+from .classes import BoundFunc
 from .values import Decline, Func, LaunchCtx, PyError, Unknown
 
 MAX_WORLDS = 32
@@ -134,6 +135,11 @@ class OpaqueA(A.Action):
 
     def walk(self, w, el: Element, sc, cond, emap) -> None:
         fn = self.function
+        bound = []
+        if isinstance(fn, BoundFunc) and isinstance(fn.func, Func):
+            # OpaqueFunction(function=obj.method): launch calls it with the context after self
+            bound = [fn.self_value]
+            fn = fn.func
         if not isinstance(fn, Func):
             why = fn.reason if isinstance(fn, Unknown) else "its function is not a function of the file"
             declined(w, el, sc, cond, None, f"tvl-lsp cannot interpret this OpaqueFunction: {why}")
@@ -147,8 +153,11 @@ class OpaqueA(A.Action):
         unit = self.unit
         worlds: list[tuple] = [()]
         done = 0
+        saved = _state(fn, bound)
         while worlds:
             prefix = worlds.pop(0)
+            if done:
+                _restore(saved)   # each case replays the method from the same object
             done += 1
             if done > MAX_WORLDS:
                 declined(w, el, sc, cond, None, f"the OpaqueFunction {fn.name}() reads arguments with more than "
@@ -156,7 +165,7 @@ class OpaqueA(A.Action):
                 return
             world = World(w, sc, el, cond, prefix)
             try:
-                result = unit.call_opaque(world, fn, [LaunchCtx()] + list(args), dict(kwargs), self.where)
+                result = unit.call_opaque(world, fn, bound + [LaunchCtx()] + list(args), dict(kwargs), self.where)
             except Decline as d:
                 declined(w, el, sc, world.guard, d.where, f"in the OpaqueFunction {fn.name}(): {d.reason}")
                 worlds.extend(world.pending)
@@ -184,6 +193,29 @@ class OpaqueA(A.Action):
                 continue
             acts = unit.convert_dynamic(result, self.entity, el, emap, w)
             w.run(acts, sc, world.guard, emap)
+
+
+def _copy1(d: dict) -> dict:
+    return {k: (type(v)(v) if type(v) in (list, dict, set) else v) for k, v in d.items()}
+
+
+def _state(fn: Func, bound: list) -> list:
+    """What an OpaqueFunction's replays must each start from: the globals of its module and the
+    attributes of a bound method's object (lists, dicts and sets copied one level)."""
+    out = []
+    g = getattr(getattr(fn, "module", None), "globals", None)
+    if isinstance(g, dict):
+        out.append((g, _copy1(g)))
+    attrs = getattr(bound[0], "attrs", None) if bound else None
+    if isinstance(attrs, dict):
+        out.append((attrs, _copy1(attrs)))
+    return out
+
+
+def _restore(saved: list) -> None:
+    for d, snap in saved:
+        d.clear()
+        d.update(_copy1(snap))
 
 
 class World:

@@ -265,7 +265,36 @@ class PyHost:
             return True
         return v
 
+    def context_env(self, name, default, m, n, required: bool = False, presence: bool = False):
+        """``context.environment.get(name, default)`` / ``[name]`` / ``name in``: the launch's
+        environment changes in scope, else the process's environment (a variable that is not set
+        here is unknown to the symbolic analysis: it may be when launching)."""
+        world = self._world(m, n, "context.environment")
+        if isinstance(name, Unknown):
+            return name
+        if not isinstance(name, str):
+            raise PyError("TypeError", "str expected, not " + type(name).__name__, m.where(n))
+        cases = world.w.env_lookup(world.sc, str(name), world.guard)
+        v = world.choose([(c, _MISSING if val is None else val) for c, val in cases])
+        if v is None and world.guard == FALSE:
+            return Unknown("an unreachable case", m.where(n))
+        if v is _MISSING:
+            if not self.concrete:
+                return Unknown(f"the environment variable {name} (not set here; it may be when launching)",
+                               m.where(n))
+            if presence:
+                return False
+            if required:
+                raise PyError("KeyError", repr(str(name)), m.where(n), sure=True)
+            return default
+        if isinstance(v, str) and opaque(v):
+            return Unknown(f"the environment variable {name} (tvl-lsp cannot compute it)", m.where(n))
+        return True if presence else v
+
     def perform(self, ctx, subs, m, n):
+        if isinstance(ctx, LObj) and ctx.cls == "LaunchContext":   # LaunchContext() made by the file
+            from .launchapi import perform_fresh
+            return perform_fresh(self, subs, m, n)
         world = self._world(m, n, "performing a substitution")
         conv = self.unit.conv
         parts = conv.parts(subs, True)
@@ -323,6 +352,21 @@ def _bind_units(acts: list, unit: PyUnit) -> None:
                 stack.extend(sub)
 
 
+_TEST_MODULES = ("launch_pytest", "launch_testing", "pytest", "unittest")
+
+
+def _test_framework(tree) -> Optional[str]:
+    """The test framework a file without ``generate_launch_description`` imports at its top
+    level (``launch_pytest``, ``pytest``...), if any."""
+    for st in tree.body:
+        names = [a.name for a in st.names] if isinstance(st, ast.Import) else \
+            [st.module or ""] if isinstance(st, ast.ImportFrom) and not st.level else []
+        for nm in names:
+            if nm.split(".", 1)[0] in _TEST_MODULES:
+                return nm.split(".", 1)[0]
+    return None
+
+
 def load_unit(w, path: str, text: str) -> Unit:
     """The walker's unit of a Python launch file."""
     idx = LineIndex(text)
@@ -361,6 +405,10 @@ def load_unit(w, path: str, text: str) -> Unit:
             # a launch_testing test: launch_test runs it, not ros2 launch
             decline = ("a launch_testing test (it defines generate_test_description()): launch_test runs it, "
                        "not ros2 launch", None)
+        elif gen is None and _test_framework(tree):
+            # a test that pytest runs (launch_pytest fixtures, plain pytest): not a launch file
+            decline = (f"a test of {_test_framework(tree)} (it has no generate_launch_description()): pytest runs "
+                       "it, not ros2 launch", None)
         elif gen is None:
             msg = f"launch file at '{path}' does not contain the required function 'generate_launch_description()'"
             errors.append(A.LoadError("InvalidPythonLaunchFileError", msg, root.tag_span, path))

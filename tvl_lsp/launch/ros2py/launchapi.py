@@ -11,8 +11,10 @@ into the ROS 2 walker's actions (:mod:`.convert`).
 from __future__ import annotations
 
 
+import os
+
 from . import apitable
-from .values import LaunchCtx, LClass, LObj, ModuleNS, PyError, Unknown, type_name
+from .values import LaunchCtx, LClass, LObj, ModuleNS, PyError, Unknown, marked, type_name
 
 # classes whose instances are substitutions (perform()-able)
 SUBSTITUTIONS = {
@@ -85,6 +87,9 @@ def _str_item(x):
         return x
     if isinstance(x, (bool, int, float)) or x is None:
         return str(x)
+    from .values import PathObj
+    if isinstance(x, PathObj):   # not Iterable: str(path)
+        return x.path
     return x
 
 
@@ -227,6 +232,85 @@ def call_method(interp, o: LObj, name: str, args: list, kwargs: dict, m: ModuleN
     return Unknown(f"{o.cls}.{name}() is not modelled", m.where(n))
 
 
+def perform_fresh(host, v, m: ModuleNS, n, depth: int = 0):
+    """``sub.perform(LaunchContext())`` with a context the file made itself (outside any launch):
+    it has no launch configurations and the process's environment.  What needs more (a
+    command, an expression, a configuration without default...) is unknown or launch's error."""
+    from .values import PathObj
+    if depth > 32:
+        return Unknown("a substitution nested too deep", m.where(n))
+    if isinstance(v, Unknown):
+        return v
+    if isinstance(v, str):
+        return str(v)
+    if isinstance(v, (list, tuple)):
+        out = []
+        for x in v:
+            r = perform_fresh(host, x, m, n, depth + 1)
+            if isinstance(r, Unknown):
+                return r
+            out.append(r)
+        return "".join(out)
+    if isinstance(v, PathObj):
+        return v.path
+    if not isinstance(v, LObj):
+        return Unknown(f"performing a {type_name(v)}", m.where(n))
+
+    def sub(name):
+        return perform_fresh(host, v.get(name), m, n, depth + 1)
+    if v.cls == "TextSubstitution":
+        return sub("text")
+    if v.cls == "LaunchConfiguration":
+        name = sub("variable_name")
+        if isinstance(name, Unknown):
+            return name
+        d = v.get("default")
+        if d is None:   # a new context holds no launch configuration
+            raise PyError("SubstitutionFailure", f"launch configuration '{name}' does not exist", m.where(n),
+                          sure=True)
+        if isinstance(d, (bool, int, float)):
+            return str(d)
+        return perform_fresh(host, d, m, n, depth + 1)
+    if v.cls == "EnvironmentVariable":
+        name = sub("name")
+        if isinstance(name, Unknown):
+            return name
+        d = v.get("default_value")
+        if d is not None:
+            d = perform_fresh(host, d, m, n, depth + 1)
+        val = host.env.get(name)
+        if val is not None:
+            return val
+        if not host.concrete:
+            return Unknown(f"the environment variable {name} (not set here; it may be when launching)", m.where(n))
+        if isinstance(d, Unknown):
+            return d
+        if d is None:
+            raise PyError("SubstitutionFailure", f"environment variable '{name}' does not exist", m.where(n),
+                          sure=True)
+        return d
+    if v.cls in ("FindPackageShare", "FindPackagePrefix"):
+        pkg = sub("package")
+        if isinstance(pkg, Unknown):
+            return pkg
+        r = host.package_dir(pkg, share=v.cls == "FindPackageShare", where=m.where(n))
+        if isinstance(r, str) and not isinstance(r, Unknown) and marked(r):
+            return Unknown(f"the folder of the package {pkg} (not found here)", m.where(n))
+        return r
+    if v.cls == "PathJoinSubstitution":
+        parts = v.get("substitutions")
+        if not isinstance(parts, (list, tuple)):
+            return Unknown("a PathJoinSubstitution of a non-list", m.where(n))
+        out = []
+        for x in parts:
+            r = perform_fresh(host, x, m, n, depth + 1)
+            if isinstance(r, Unknown):
+                return r
+            out.append(r)
+        return os.path.join(*out) if out else ""
+    return Unknown(f"{v.cls}.perform() with a LaunchContext the file made", m.where(n))
+
+
 def evaluate_condition(interp, o: LObj, ctx, m: ModuleNS, n):
     """A condition's value with the launch context (IfCondition: launch's
     evaluate_condition_expression of the performed text)."""
@@ -275,4 +359,4 @@ def make_context() -> LaunchCtx:
 
 
 __all__ = ["construct", "attribute", "call_method", "subscript", "iterate", "binop", "is_substitution",
-           "evaluate_condition", "SUBSTITUTIONS", "CONDITIONS", "SOURCES"]
+           "evaluate_condition", "perform_fresh", "SUBSTITUTIONS", "CONDITIONS", "SOURCES"]

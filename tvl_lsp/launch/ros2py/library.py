@@ -17,7 +17,7 @@ from typing import Optional
 from ...base import yamlsafe
 from .. import evalguard as guard
 from .classes import BoundFunc, PyClass, PyInstance, SuperProxy
-from .values import (SysPath, Builtin, BoundMethod, Decline, EnvMap, FileObj, Func, LaunchCtx, LClass, LCMap, LObj, ModuleNS,
+from .values import (SysPath, Builtin, BoundMethod, CtxEnvMap, Decline, EnvMap, FileObj, Func, LaunchCtx, LClass, LCMap, LObj, ModuleNS,
                      PathObj, PyError, Sym, Unknown, marked, type_name)
 
 _PLAIN = (str, int, float, bool, type(None))
@@ -105,7 +105,7 @@ def percent_format(interp, a: str, b, m: ModuleNS, n):
 # ------------------------------------------------------------------ operators
 
 _OBJECTS = (Func, Builtin, Sym, LClass, BoundMethod, PyClass, PyInstance, BoundFunc, SuperProxy, EnvMap, LaunchCtx,
-            LCMap, FileObj)
+            LCMap, FileObj, CtxEnvMap)
 
 def binop_special(interp, op, a, b, m: ModuleNS, n):
     if isinstance(op, ast.Div) and isinstance(a, PathObj):
@@ -138,6 +138,8 @@ def subscript_special(interp, obj, key, m: ModuleNS, n):
         return environ_get(interp, key, None, m, n, required=True)
     if isinstance(obj, LCMap):
         return interp.host.launch_configuration(key, None, m, n, required=True)
+    if isinstance(obj, CtxEnvMap):
+        return interp.host.context_env(key, None, m, n, required=True)
     if isinstance(obj, LObj):
         return interp.api.subscript(interp, obj, key, m, n)
     return NotImplemented
@@ -152,6 +154,8 @@ def environ_contains(interp, container, item, m, n):
     if isinstance(container, LCMap):
         v = interp.host.launch_configuration(item, None, m, n, presence=True)
         return v
+    if isinstance(container, CtxEnvMap):
+        return interp.host.context_env(item, None, m, n, presence=True)
     return NotImplemented
 
 
@@ -400,6 +404,8 @@ def attribute(interp, obj, name: str, m: ModuleNS, n, importing: bool):
     if isinstance(obj, LaunchCtx):
         if name == "launch_configurations":
             return LCMap()
+        if name == "environment":
+            return CtxEnvMap()
         if name in ("perform_substitution",):
             return BoundMethod(obj, name, m.where(n))
         return Unknown(f"context.{name} (the launch context at run time)", m.where(n))
@@ -407,6 +413,10 @@ def attribute(interp, obj, name: str, m: ModuleNS, n, importing: bool):
         if name in ("get", "keys", "items", "copy", "values"):
             return BoundMethod(obj, name, m.where(n))
         return Unknown(f"launch_configurations.{name}", m.where(n))
+    if isinstance(obj, CtxEnvMap):
+        if name == "get":
+            return BoundMethod(obj, name, m.where(n))
+        return Unknown(f"context.environment.{name}", m.where(n))
     if isinstance(obj, LObj):
         return interp.api.attribute(interp, obj, name, m, n)
     if isinstance(obj, LClass):
@@ -488,6 +498,9 @@ def call_method(interp, bm: BoundMethod, args, kwargs, m, n):
                 return interp.host.launch_configuration(args[0] if args else None,
                                                         args[1] if len(args) > 1 else None, m, n)
             return Unknown(f"launch_configurations.{name}() (every launch configuration)", m.where(n))
+        if isinstance(obj, CtxEnvMap) and name == "get":
+            return interp.host.context_env(args[0] if args else kwargs.get("key"),
+                                           args[1] if len(args) > 1 else kwargs.get("default"), m, n)
         if isinstance(obj, LaunchCtx) and name == "perform_substitution":
             return interp.host.perform(obj, args[0] if args else None, m, n)
         if isinstance(obj, LObj):

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ast
 from dataclasses import dataclass, field
+from pathlib import PurePosixPath
 from typing import Any, Optional
 
 from ...base.text import LineIndex, Pos, Span
@@ -237,7 +238,8 @@ class PathObj:
     __slots__ = ("path",)
 
     def __init__(self, path: str):
-        self.path = path
+        # str(Path(...)) as pathlib spells it: no '.' parts, no doubled or trailing '/' (pure text)
+        self.path = str(PurePosixPath(path))
 
     def __repr__(self) -> str:
         return f"PosixPath({self.path!r})"
@@ -270,6 +272,11 @@ class LaunchCtx:
 
 class LCMap:
     """``context.launch_configurations``."""
+
+
+class CtxEnvMap:
+    """``context.environment``: the process's environment with the launch's SetEnvironmentVariable /
+    UnsetEnvironmentVariable changes in scope."""
 
 
 def is_unknown(v) -> bool:

@@ -28,6 +28,8 @@ def register(ls) -> None:
         if facts is None:
             title = "counting products…"
             asyncio.ensure_future(_refresh_when_ready(ls, doc.path))
+        elif facts.total is None and facts.retry:
+            title = "products: counting again in the background…"  # (refreshed when it answers)
         elif facts.total is None:
             title = f"products: not counted ({facts.error})"
         else:

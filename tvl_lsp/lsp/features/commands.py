@@ -142,7 +142,7 @@ def register(ls) -> None:
         return {"text": doc.text if doc else None, "version": doc.version if doc else None,
                 "phase": res.phase if res else None, "resultVersion": res.version if res else None,
                 "rss": rss, "documents": len(ls.docs), "cache": len(ls.cache),
-                "handlers": len(ls.protocol._request_futures)}
+                "handlers": len(ls.protocol._request_futures), "debounce": ls.settings.debounce}
 
 
 def _feature_arg(args) -> str:

@@ -7,13 +7,13 @@ import logging
 
 from lsprotocol import types
 
-from ..convert import apply_change, path_to_uri, uri_to_path
+from ..convert import apply_change_at, path_to_uri, uri_to_path
 
 log = logging.getLogger("tvl_lsp.server")
 
 
 def register(ls) -> None:
-    from ..documents import Document
+    from ..documents import Document, text_diff
 
     @ls.feature(types.INITIALIZE)
     def initialize(ls, params: types.InitializeParams):
@@ -56,6 +56,7 @@ def register(ls) -> None:
             t.cancel()
         ls.restart_proc_pool()  # kill the worker processes: exit must not wait for a count
         ls.restart_check_pool()
+        ls.stop_background_pool()
         ls.executor.shutdown(wait=False, cancel_futures=True)
 
     @ls.feature(types.EXIT)
@@ -114,13 +115,16 @@ def register(ls) -> None:
             return
         text = doc.text
         enc = ls.encoding
+        edits = []  # (where each change was: older results are mapped onto the new text)
         for ch in params.content_changes:
             rng = getattr(ch, "range", None)
             try:
-                text = apply_change(text, rng, ch.text, enc)
+                new, at = apply_change_at(text, rng, ch.text, enc)
+                edits.append(at if at is not None else text_diff(text, new))
+                text = new
             except Exception:  # never let a bad change kill the server
                 log.exception("bad change ignored")
-        doc.set_text(text, params.text_document.version)
+        doc.set_text(text, params.text_document.version, edits)
         if doc.path.endswith(("package.xml", ".yaml", ".yml")):
             ls.epoch += 1
         ls.schedule(uri)
