@@ -44,3 +44,18 @@ def generated_model(n: int, seed: int = 3) -> str:
         cons.append(f"  {a} -> {b};" if rng.random() < 0.5 else f"  {a} excludes {b};")
     text = "\n".join(lines) + "\n"
     return text + "Root {\n" + "\n".join(cons) + "\n}\n"
+
+
+def hard_model(n: int = 200, seed: int = 7) -> str:
+    """A model whose compilation keeps d4 busy for minutes (``n`` optional features under a
+    random 3-CNF at ratio 2.5: easy to satisfy, hard to count): a test that needs d4 to give up
+    gets it whatever the machine's speed or load (a model d4 compiles in 0.2 s can still be
+    counted under a budget of 0.01 s when its compile thread is next scheduled after d4 ended)."""
+    import random
+    rng = random.Random(seed)
+    names = [f"F{i}" for i in range(1, n + 1)]
+    lines = ["root Hard {", "  group allOf {", "    " + ", ".join(f"opt {x}" for x in names), "  }"]
+    for _ in range(int(n * 2.5)):
+        lits = [("!" if rng.random() < 0.5 else "") + names[v] for v in rng.sample(range(n), 3)]
+        lines.append("  " + " || ".join(lits) + ";")
+    return "\n".join(lines + ["}"]) + "\n"

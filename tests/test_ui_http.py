@@ -280,3 +280,41 @@ def test_sigterm_leaves_no_child_process(tmp_path):
         if proc.poll() is None:
             proc.kill()
             proc.wait()
+
+
+def test_decisions_sent_at_once_are_all_kept(tmp_path):
+    """Clicks answered at the same time (a user quicker than a loaded server): each decision is
+    made from the decisions the one before left, none is dropped."""
+    ws = tmp_path / "ws"
+    (ws / "src" / "m").mkdir(parents=True)
+    (ws / ".catkin_workspace").write_text("")
+    names = [f"F{i}" for i in range(24)]
+    model = ws / "src" / "m" / "m.tvl"
+    # (and enough other features that each answer takes the server a while: the clicks overlap)
+    filler = [f"G{i}" for i in range(1500)]
+    model.write_text("root M {\n  group allOf {\n    " + ",\n    ".join(f"opt {n}" for n in names + filler)
+                     + "\n  }\n" + "".join(f"  {a} -> {b};\n" for a, b in zip(filler, filler[1:])) + "}\n")
+    httpd, url = make_server(str(model), 0)
+    t = threading.Thread(target=httpd.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True)
+    t.start()
+    try:
+        port, token = urlsplit(url).port, urlsplit(url).query.split("=", 1)[1]
+        assert api(port, token, "state", {})[0] == 200
+        start = threading.Barrier(len(names))
+        answers: list[int] = []
+
+        def click(name):
+            start.wait()
+            answers.append(api(port, token, "decide", {"feature": name, "value": True})[0])
+
+        clicks = [threading.Thread(target=click, args=(n,)) for n in names]
+        for c in clicks:
+            c.start()
+        for c in clicks:
+            c.join(60)
+        assert answers == [200] * len(names)
+        st, _, body = api(port, token, "state", {})
+        assert st == 200 and sorted(json.loads(body)["decisions"]) == sorted(names)
+    finally:
+        httpd.shutdown()
+        httpd.server_close()

@@ -52,6 +52,7 @@ from ..project.workspace import find_workspace_root, is_launch, is_model, norm
 STATIC = Path(__file__).with_name("static")
 MAX_BODY = 1 << 20
 TOKEN_PLACEHOLDER = "__TVL_TOKEN__"
+CHANGES = ("decide", "set", "reset", "complete", "load")  # the requests that change the decisions
 CSP = ("default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
        "connect-src 'self'; font-src 'self'; base-uri 'none'; form-action 'none'; frame-ancestors 'none'")
 
@@ -72,6 +73,7 @@ class App:
         self.sessions: dict[str, Session] = {}
         self.decisions: dict[str, dict[str, bool]] = {}
         self.versions: dict[str, int] = {}
+        self.changing: dict[str, threading.Lock] = {}  # model -> held while its decisions change
         self.pairings: dict[str, str] = {}  # model -> the launch file chosen on the page
         self.compile_budget = compile_budget
         self.initial: Optional[str] = None
@@ -198,6 +200,17 @@ class App:
             return self.pair(body.get("model"), body.get("launch"))
         s = self.session(body.get("model"))
         key = s.model_path
+        if op in CHANGES:
+            # one change of a model's decisions at a time, each from the decisions the one before
+            # left: two clicks answered at once would both start from the same decisions and the
+            # second would drop the first's
+            with self.lock:
+                changing = self.changing.setdefault(key, threading.Lock())
+            with changing:
+                return self._request(s, key, op, body)
+        return self._request(s, key, op, body)
+
+    def _request(self, s: Session, key: str, op: str, body: dict) -> dict:
         with self.lock:
             decisions = dict(self.decisions.get(key, {}))
             version = self.versions.get(key, 0)

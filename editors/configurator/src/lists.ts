@@ -5,12 +5,23 @@ import { el } from './format';
 import type { Page } from './page';
 import { statusOf } from './model';
 import type { Problem } from './types';
-import { locLink } from './ui';
+import { locLink, redraw } from './ui';
 
 const PROBLEMS_SHOWN = 200;
-let problemsKey = '';
+
+// a forced redraw waiting for a release stays forced when an unforced one replaces it
+let forced = false;
 
 export function renderProblems(page: Page, force = true): void {
+  forced = forced || force;
+  redraw('problems', () => {
+    const f = forced;
+    forced = false;
+    drawProblems(page, f);
+  });
+}
+
+function drawProblems(page: Page, force: boolean): void {
   const box = document.getElementById('problems') as HTMLElement | null;
   if (!box) {
     return;
@@ -18,10 +29,10 @@ export function renderProblems(page: Page, force = true): void {
   // a click that changes no problem's status does not redraw the list (hundreds on big models)
   const key = JSON.stringify([page.model.model, page.problems?.length ?? -1, page.problemStatus, page.showRuledOut,
     page.showAllProblems]);
-  if (!force && key === problemsKey) {
+  if (!force && key === box.dataset.drawn) {
     return;
   }
-  problemsKey = key;
+  box.dataset.drawn = key;
   const tab = document.getElementById('tab-problems');
   if (page.problems === null) {
     if (tab) tab.textContent = 'Problems …';
@@ -80,12 +91,24 @@ export function renderProblems(page: Page, force = true): void {
 }
 
 export function renderDecisions(page: Page): void {
+  redraw('decisions', () => drawDecisions(page));
+}
+
+function drawDecisions(page: Page): void {
   const box = document.getElementById('decisions') as HTMLElement | null;
   if (!box) {
     return;
   }
   const s = page.state;
   const entries = Object.entries(s.decisions);
+  // an answer that changes nothing here (counts, the problems, a refusal) leaves the list, its
+  // buttons and the focus alone
+  const key = JSON.stringify([page.model.model, entries, Object.keys(s.implied).length, s.open.length, s.complete,
+    page.history.length > 0]);
+  if (box.dataset.drawn === key) {
+    return;
+  }
+  box.dataset.drawn = key;
   const tab = document.getElementById('tab-decisions');
   if (tab) tab.textContent = `Decisions (${entries.length})`;
   const undoLast = el('button', { class: 'small', id: 'undo-last', title: 'go back to the decisions before the last change' }, 'Undo last');
@@ -94,7 +117,12 @@ export function renderDecisions(page: Page): void {
     const prev = page.history.pop();
     if (prev) {
       // 'undo' does not push onto the history
-      void page.setDecisions(prev, 'undo').then((ok) => { if (!ok) page.history.push(prev); });
+      void page.setDecisions(prev, 'undo').then((ok) => {
+        if (!ok) {
+          page.history.push(prev);
+          renderDecisions(page);
+        }
+      });
     }
   });
   const resetAll = el('button', { class: 'small', title: 'forget every decision' }, 'Undo all');

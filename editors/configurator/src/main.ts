@@ -17,7 +17,7 @@ import type {
   Counts, DecideResult, Explanation, FeatureNode, GraphEdge, GraphElement, GraphJson, ModelJson, Problem, ProblemsJson,
   Refusal, State, Status, Targets,
 } from './types';
-import { locLink, menu, relative, setWhere, sleep, tabs, toast } from './ui';
+import { locLink, menu, redraw, relative, setWhere, sleep, tabs, toast } from './ui';
 
 const t: Transport = makeTransport();
 const root = document.getElementById('app') as HTMLElement;
@@ -60,6 +60,8 @@ class App implements Page {
   showRuledOut = false;
   showAllProblems = false;
   history: Record<string, boolean>[] = [];
+  /** counts the states applied: an answer asked for before another state came is stale */
+  stateSeq = 0;
   index: FeatureIndex;
   private countSeq = 0;
   private countsKey = '';
@@ -197,7 +199,7 @@ class App implements Page {
     const linked = new Set(this.graphLinksOf(f.id).map((e) => e.id));
     this.graph?.setLinked(linked);
     this.view.setLinked(new Set());
-    renderFeature(this, f);
+    redraw('details', () => renderFeature(this, f));
     this.askCount(f.id);
   }
 
@@ -207,11 +209,15 @@ class App implements Page {
     const names = new Set(conditionNames(e.condition).filter((n) => this.index.byId.has(n)));
     this.view.setLinked(names);
     this.view.select(null);
-    renderGraphItem(this, e, kind);
+    redraw('details', () => renderGraphItem(this, e, kind));
   }
 
   /** Refresh the details of what is selected (after every decision and every count). */
   refreshDetails(): void {
+    redraw('details', () => this.drawDetails());
+  }
+
+  private drawDetails(): void {
     const s = this.selection;
     if (!s) {
       return;
@@ -229,6 +235,7 @@ class App implements Page {
   // ------------------------------------------------------------------ state
 
   applyState(state: State): void {
+    this.stateSeq++;
     this.state = state;
     if (state.problems) {
       this.problemStatus = state.problems;
@@ -691,11 +698,13 @@ async function loadGraph(a: App, box: HTMLElement, panel: HTMLElement): Promise<
     const note = noTopicsNote(g);
     if (note) panel.insertBefore(note, box);
     a.graph = new GraphView(box, g, { select: (e, k) => a.selectGraphItem(e, k) }, () => t.layoutWorker());
+    const seq = a.stateSeq;
     const st = a.state.graph ? a.state : await t.request<State>('state', { model: a.model.model });
     if (app !== a) {
       return;
     }
-    a.graphStatus = st.graph ?? g.status ?? {};
+    // (a decision answered meanwhile brought the newer status)
+    a.graphStatus = (a.stateSeq !== seq ? a.state.graph : null) ?? st.graph ?? g.status ?? {};
     await a.graph.setStatus(a.graphStatus);
     document.body.dataset.graph = 'ready';
     a.refreshDetails();
@@ -712,7 +721,16 @@ async function loadProblems(a: App): Promise<void> {
     }
     a.problems = r.problems;
     a.problemStatus = r.status ?? {};
-    a.applyState(await t.request<State>('state', { model: a.model.model }));
+    // the problems' status under the current decisions: a state asked for before a decision's
+    // answer came in is older than it (it would bring back the decisions before the click)
+    for (let tries = 0; tries < 5 && app === a; tries++) {
+      const seq = a.stateSeq;
+      const st = await t.request<State>('state', { model: a.model.model });
+      if (a.stateSeq === seq && app === a) {
+        a.applyState(st);
+        break;
+      }
+    }
     renderProblems(a);
     document.body.dataset.problems = 'ready';
   } catch (e) {

@@ -186,3 +186,45 @@ export function tabs(id: string, entries: [string, string, HTMLElement][]): { ba
 export function sleep(ms: number): Promise<void> {
   return new Promise((resolve) => setTimeout(resolve, ms));
 }
+
+// ------------------------------------------------------------------ redraws and presses
+// A click is a press and a release on the same element: a panel redrawn in between (an answer
+// arriving -- counts, the problems, a decision's state -- replaces its buttons) turns the
+// release into one on a new element, and the browser fires no click at all: the user's click
+// is silently ignored. Panels that answers redraw go through redraw(): while a pointer is
+// pressed the redraw waits for its release (the latest one per panel, run after the click).
+let pressed = false;
+let safety = 0;
+const waiting = new Map<string, () => void>();
+
+function flushRedraws(): void {
+  pressed = false;
+  clearTimeout(safety);
+  const fns = [...waiting.values()];
+  waiting.clear();
+  fns.forEach((fn) => fn());
+}
+
+window.addEventListener('pointerdown', () => {
+  pressed = true;
+  clearTimeout(safety);
+  safety = window.setTimeout(flushRedraws, 3000); // a release the page never saw (outside it)
+}, true);
+const released = () => {
+  // the click is dispatched with the release: the waiting redraws run after it
+  pressed = false;
+  if (waiting.size) setTimeout(flushRedraws, 0);
+};
+window.addEventListener('pointerup', released, true);
+window.addEventListener('pointercancel', released, true);
+window.addEventListener('blur', released);
+
+/** Redraw the panel `key` now, or after the pointer pressed on the page is released. */
+export function redraw(key: string, fn: () => void): void {
+  if (pressed) {
+    waiting.set(key, fn);
+    return;
+  }
+  waiting.delete(key);
+  fn();
+}
