@@ -62,7 +62,7 @@ def test_include_random_propagates_and_counts(turtle):
     assert st["decisions"] == {"Random": True}
     assert st["implied"] == {"Turtlerand": True, "Turtlesim": True, "Vel": True}
     assert "Teleop" in st["open"] and not st["complete"]
-    c0, c1 = turtle.counts({}), turtle.counts(d)
+    c0, c1 = turtle.counts({}, wait=120), turtle.counts(d, wait=120)
     assert (c0["total"], c0["remaining"], c1["remaining"]) == ("4", "4", "2")
     assert c1["complete"] and c1["features"] == {"Turtlerand": "2", "Turtlesim": "2", "Teleop": "1", "Random": "2",
                                                  "Multiplexer": "1", "Vel": "2"}
@@ -144,11 +144,11 @@ def test_problems_filtered_by_decisions(bot):
 
 
 def test_cardinality_counts_and_refusal(bot):
-    assert bot.counts({})["remaining"] == "12"
+    assert bot.counts({}, wait=120)["remaining"] == "12"
     d, _ = bot.decide({}, "Sonar", True)
     st = bot.state(d)
     assert st["implied"]["Tracks"] is True and st["implied"]["Wheels"] is False
-    assert bot.counts(d)["remaining"] == "4"
+    assert bot.counts(d, wait=120)["remaining"] == "4"
     _, r = bot.decide(d, "Wheels", True)
     assert r.conflicts_with == {"Sonar": True}
     labels = " ".join(b["label"] for b in r.because)
@@ -257,7 +257,7 @@ def test_counts_come_from_one_compilation_per_model_content(tmp_path, d4_calls):
     for feature, value in [("Sensors", True), ("Lidar", False), ("Tracks", True), ("Camera", True)]:
         decisions, refusal = s.decide(decisions, feature, value)
         assert refusal is None
-        c = s.counts(decisions)
+        c = s.counts(decisions, wait=120)
         sel = [p for p in allp if all(p[k] == v for k, v in decisions.items())]
         assert c["engine"] == "d4" and not c["pending"] and c["complete"]
         assert c["remaining"] == str(len(sel)) and c["total"] == str(len(allp))
@@ -265,13 +265,13 @@ def test_counts_come_from_one_compilation_per_model_content(tmp_path, d4_calls):
     assert d4_calls == ["in-process"]  # one compilation for every decision
     # a second session on the same text (another view, a host restart in the same process)
     s2 = Session.open(str(ws / "src" / "bot" / "launch" / "robot.tvl"))
-    assert s2.counts({"Wheels": True})["remaining"] == str(sum(1 for p in allp if p["Wheels"]))
+    assert s2.counts({"Wheels": True}, wait=120)["remaining"] == str(sum(1 for p in allp if p["Wheels"]))
     assert d4_calls == ["in-process"]
     # a new text is a new model: compiled once more
     model = ws / "src" / "bot" / "launch" / "robot.tvl"
     model.write_text(model.read_text().replace("Sonar -> Tracks;", "Sonar -> Tracks;\n  Camera -> Lidar;"))
     s3 = Session.open(str(model))
-    assert s3.counts({})["remaining"] == str(sum(1 for p in allp if not p["Camera"] or p["Lidar"]))
+    assert s3.counts({}, wait=120)["remaining"] == str(sum(1 for p in allp if not p["Camera"] or p["Lidar"]))
     assert d4_calls == ["in-process", "in-process"]
 
 
