@@ -183,3 +183,21 @@ def test_the_systemerror_of_a_lost_memoryerror_is_the_memory_budget(monkeypatch)
     assert not budget.out_of_memory(lost)
     monkeypatch.setattr(resource, "getrlimit", lambda which: (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
     assert not budget.out_of_memory(lost)
+
+
+def test_check_fix_at_the_memory_limit_ends_with_its_error(tmp_path):
+    """``--check --fix`` runs the fixes under ``--memory`` too: a model whose analysis spins at the
+    limit ends the command with the memory error (exit 2), not a hang; the worker that spun was
+    rescued or killed by the watcher."""
+    ws = _workspace(tmp_path)
+    p = _run(PRELUDE + textwrap.dedent(f'''
+        from tvl_lsp.main import main
+        code = main(["--check", "--fix", "--memory", "64", "--budget", "0", {str(ws)!r}])
+        print(json.dumps({{"exit": code, "stats": supervise.STATS}}), file=sys.stderr)
+    '''))
+    assert p.returncode == 0, p.stderr[-3000:]
+    got = json.loads(p.stderr.strip().splitlines()[-1])
+    assert got["exit"] == 2
+    assert "needed more memory than --memory allows" in p.stderr
+    assert got["stats"]["rescued"] + got["stats"]["killed"] >= 1
+    assert "Traceback" not in p.stderr

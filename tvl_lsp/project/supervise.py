@@ -299,3 +299,87 @@ def run(units: Sequence, jobs: int, run_unit: RunUnit, order: Optional[Sequence[
         for w in workers:
             w.kill()
     return results
+
+
+def call(fn: Callable, *args, **kw):
+    """``fn(*args, **kw)`` in one forked worker watched as :func:`run` watches its workers (the
+    other commands that run under ``--memory``: ``--check --fix``).  Its result (sent back
+    pickled); ``MemoryError`` when the worker ran out of memory (stuck at its limit and rescued
+    or killed, or dead near it, or its own ``MemoryError``); ``RuntimeError`` when it failed
+    otherwise (with its traceback) or died of something else."""
+    import traceback
+    ctx = mp.get_context("fork")
+    rd, wr = ctx.Pipe(duplex=False)
+
+    def work() -> None:
+        import io
+        import sys
+        rd.close()
+        # what it prints goes back with its result (the parent's streams may be a test's or
+        # a pipe's objects, which a forked child's writes would not reach)
+        sys.stdout, sys.stderr = io.StringIO(), io.StringIO()
+        try:
+            res = ("ok", fn(*args, **kw))
+        except MemoryError:
+            res = ("memory", None)
+        except BaseException as exc:  # (the parent re-raises it; nothing escapes a forked child)
+            res = ("memory", None) if budget.out_of_memory(exc) else ("error", traceback.format_exc())
+        try:
+            wr.send(res + (sys.stdout.getvalue(), sys.stderr.getvalue()))
+        except MemoryError:
+            wr.send(("memory", None, "", ""))
+
+    proc = ctx.Process(target=work, daemon=True)
+    proc.start()
+    wr.close()
+    STATS["workers"] += 1
+    room0 = room_of(proc.pid)
+    room: Optional[int] = room0
+    stuck_since: Optional[float] = None
+    rescued_at: Optional[float] = None
+    res = None
+    try:
+        while True:
+            if rd.poll(TICK):
+                try:
+                    res = rd.recv()
+                except (EOFError, OSError):
+                    res = None
+                break
+            if not proc.is_alive():
+                break
+            now = time.monotonic()
+            got = room_of(proc.pid)
+            if got is not None:
+                room = got
+                stuck_since = (stuck_since or now) if got < STUCK_ROOM else None
+            if rescued_at is None and stuck_since is not None and now - stuck_since >= STUCK_SECONDS:
+                raise_limit(proc.pid, RESCUE_BYTES)
+                STATS["rescued"] += 1
+                rescued_at = now
+            elif rescued_at is not None and now - rescued_at >= GRACE:
+                STATS["killed"] += 1
+                proc.kill()
+                raise MemoryError()
+    finally:
+        proc.join(5)
+        if proc.is_alive():
+            proc.kill()
+            proc.join(5)
+        rd.close()
+    if res is None:  # died without an answer
+        STATS["died"] += 1
+        near = rescued_at is not None or stuck_since is not None or (
+            room is not None and room0 is not None and room < min(NEAR_MAX, room0 // NEAR_SHARE))
+        if near:
+            raise MemoryError()
+        raise RuntimeError(f"the worker died (exit code {proc.exitcode})")
+    kind, value, out, err = res
+    import sys
+    sys.stdout.write(out)
+    sys.stderr.write(err)
+    if kind == "memory":
+        raise MemoryError()
+    if kind == "error":
+        raise RuntimeError(value)
+    return value

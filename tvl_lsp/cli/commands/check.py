@@ -134,18 +134,24 @@ def main(argv: Optional[list[str]] = None) -> int:
         codes = (set(ANOMALY_CODES) & select if select else set(ANOMALY_CODES)) - ignore
         try:
             from ...project.budget import cap_memory
+            from ...project import supervise as sv
+            args = (paths, codes, ns.apply, ns.fix_budget, ns.quiet, None if ns.apply else ns.output)
             with cap_memory(CHECK_MEMORY_BYTES if ns.memory is None else ns.memory * 1024 ** 2):
-                made, failed = fix.run(paths, codes, ns.apply, ns.fix_budget, ns.quiet,
-                                       None if ns.apply else ns.output)
+                # in a watched worker where there are: at the memory limit a process can spin
+                # for ever or abort (project.supervise)
+                made, failed = sv.call(fix.run, *args) if sv.available() else fix.run(*args)
         except MemoryError:
             print("tvl-lsp --check --fix: error: the fixes needed more memory than --memory allows",
                   file=sys.stderr)
             return 2
         except BrokenPipeError:
             raise
-        except Exception:
+        except Exception as exc:
             print("tvl-lsp --check --fix: internal error (please report it):", file=sys.stderr)
-            traceback.print_exc()
+            if isinstance(exc, RuntimeError) and str(exc).startswith("Traceback"):
+                print(str(exc).rstrip(), file=sys.stderr)  # (the worker's)
+            else:
+                traceback.print_exc()
             return 2
         if failed:
             return 2
