@@ -132,3 +132,50 @@ def from_encoding(line_text: str, col: int, encoding: str = "utf-16") -> int:
             return i
         units += _units(ch, encoding)
     return len(line_text)
+
+
+_onew = object.__new__
+# the slots' descriptors: setting them directly skips the frozen dataclass's __init__ checks
+_set_line = Pos.__dict__["line"].__set__
+_set_col = Pos.__dict__["col"].__set__
+_set_start = Span.__dict__["start"].__set__
+_set_end = Span.__dict__["end"].__set__
+
+
+def fast_span(l1: int, c1: int, l2: int, c2: int) -> Span:
+    """Span(Pos(l1, c1), Pos(l2, c2)) without the frozen-dataclass __init__ cost (hot path)."""
+    a = _onew(Pos)
+    _set_line(a, l1)
+    _set_col(a, c1)
+    b = _onew(Pos)
+    _set_line(b, l2)
+    _set_col(b, c2)
+    sp = _onew(Span)
+    _set_start(sp, a)
+    _set_end(sp, b)
+    return sp
+
+
+def single_file_span(idx: "LineIndex"):
+    """``span(s, e)`` for offsets into ``idx``'s text: :class:`Span` made without the frozen
+    dataclass's ``__init__`` (the front ends' hot path)."""
+    starts = idx.starts
+    n = len(idx.text)
+    nl = len(starts)
+    br = bisect.bisect_right
+    mk = fast_span
+
+    def span(s: int, e: int) -> Span:
+        if s > n:
+            s = n
+        if e < s:
+            e = s
+        elif e > n:
+            e = n
+        l1 = br(starts, s) - 1
+        b = starts[l1]
+        if l1 + 1 >= nl or e < starts[l1 + 1]:
+            return mk(l1, s - b, l1, e - b)
+        l2 = br(starts, e) - 1
+        return mk(l1, s - b, l2, e - starts[l2])
+    return span

@@ -24,7 +24,7 @@ from lark.lexer import Lexer
 
 from bisect import bisect_right as _bisect_right
 
-from ..base.text import LineIndex, Pos, Span
+from ..base.text import LineIndex, Pos, Span, fast_span, single_file_span
 from . import model as m
 from .lexer import Tok
 from .raw import (RawAttr, RawBody, RawChild, RawConst, RawConstraint, RawData, RawFeatureDecl, RawGroup, RawType,
@@ -426,49 +426,9 @@ class _Ctx:
     too_deep: bool = False
 
 
-_onew = object.__new__
-# the slots' descriptors: setting them directly skips the frozen dataclass's __init__ checks
-_set_line = Pos.__dict__["line"].__set__
-_set_col = Pos.__dict__["col"].__set__
-_set_start = Span.__dict__["start"].__set__
-_set_end = Span.__dict__["end"].__set__
-
-
-def _span(l1: int, c1: int, l2: int, c2: int) -> Span:
-    """Span(Pos(l1, c1), Pos(l2, c2)) without the frozen-dataclass __init__ cost (hot path)."""
-    a = _onew(Pos)
-    _set_line(a, l1)
-    _set_col(a, c1)
-    b = _onew(Pos)
-    _set_line(b, l2)
-    _set_col(b, c2)
-    sp = _onew(Span)
-    _set_start(sp, a)
-    _set_end(sp, b)
-    return sp
-
-
-def _single_file_span(idx: LineIndex):
-    starts = idx.starts
-    n = len(idx.text)
-    nl = len(starts)
-    br = _bisect_right
-    mk = _span
-
-    def span(s: int, e: int) -> Span:
-        if s > n:
-            s = n
-        if e < s:
-            e = s
-        elif e > n:
-            e = n
-        l1 = br(starts, s) - 1
-        b = starts[l1]
-        if l1 + 1 >= nl or e < starts[l1 + 1]:
-            return mk(l1, s - b, l1, e - b)
-        l2 = br(starts, e) - 1
-        return mk(l1, s - b, l2, e - starts[l2])
-    return span
+# the hot-path Span makers live in base.text (the UVL front end uses them without this parser)
+_span = fast_span
+_single_file_span = single_file_span
 
 
 class SourceMap:

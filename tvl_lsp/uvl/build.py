@@ -31,9 +31,8 @@ from typing import Callable, Optional
 
 from ..base.diagnostics import Diagnostic, Related, Severity, register
 from ..base.files import inside, model_workspace
-from ..base.text import LineIndex, Span
+from ..base.text import LineIndex, Span, single_file_span as _single_file_span  # the hot-path Span maker
 from ..tvl import model as M
-from ..tvl.parser import _single_file_span  # the hot-path Span maker (no dataclass __init__)
 from .fastpath import fast_parse
 from .lexer import Tok, TooManyTokens, tokenize
 from .parser import RawFeature, RawFile, RawImport, RawValue, StrLit, parse_lines, _unquote

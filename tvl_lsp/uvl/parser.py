@@ -21,9 +21,6 @@ import threading
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
-from lark import Lark, Transformer
-from lark.lexer import Lexer
-
 from ..tvl import model as m
 from .lexer import Line, Tok, layout
 
@@ -152,14 +149,6 @@ def _unquote(t: Tok) -> str:
 
 # ---------------------------------------------------------------- lark plumbing
 
-class _ListLexer(Lexer):
-    def __init__(self, lexer_conf):
-        pass
-
-    def lex(self, data, *_):  # pragma: no cover - never used
-        return iter(())
-
-
 _OPS = {"AND": "&&", "OR": "||", "IMPLIES": "->", "IFF": "<->", "EQ": "==", "NEQ": "!=", "LT": "<",
         "GT": ">", "LEQ": "<=", "GEQ": ">=", "PLUS": "+", "MINUS": "-", "TIMES": "*", "DIV": "/"}
 
@@ -172,9 +161,10 @@ def _e(x) -> int:
     return x.end if isinstance(x, (Tok, RawRef, RawValue)) else x._e
 
 
-class _Builder(Transformer):
+class _Builder:
+    """The grammar's callbacks (by rule alias or name), called by :func:`_run`."""
+
     def __init__(self):
-        super().__init__(visit_tokens=False)
         self.ctx: "_Ctx" = None
 
     def _mk(self, node: m.Expr, s: int, e: int, depth: int) -> m.Expr:
@@ -479,50 +469,126 @@ class _Ctx:
 
 _LOCK = threading.Lock()
 _BUILDER = _Builder()
-_PARSER: Optional[Lark] = None
 _TABLES = None
 _IDENTITY = {"id", "key", "major_level", "minor_level", "feature_type", "group_kw", "agg_func"}
 
 
-def _parser() -> Lark:
-    global _PARSER
-    if _PARSER is None:
-        _PARSER = Lark(_grammar_text(), parser="lalr", lexer=_ListLexer, transformer=_BUILDER,
-                       maybe_placeholders=False)
-    return _PARSER
-
-
 def _tables():
+    """(rows, start state, end state): ``rows[state][terminal]`` is ``(True, next state, 0, None)``
+    to shift, or ``(False, rule origin, rule size, callback or None)`` to reduce.
+
+    The table is the one lark computes for ``grammars/uvl.lark``; it is stored in
+    :mod:`._uvl_table` (written by ``python -m tvl_lsp.uvl.parser``, checked against lark by
+    tests/test_uvl_table.py) so that reading a UVL file neither imports lark nor builds the
+    LALR automaton (0.05 s of every cold start).  When the grammar no longer matches the stored
+    table (its SHA-256 differs), lark computes the table here as before."""
     global _TABLES
     if _TABLES is None:
-        from lark.parsers.lalr_analysis import Shift
-        pp = _parser().parser.parser.parser
-        pt = pp.parse_table
-        cbs = pp.callbacks
-        rows: dict[int, dict] = {}
-        for st, acts in pt.states.items():
-            d = {}
-            for sym, (action, arg) in acts.items():
-                if action is Shift:
-                    d[str(sym)] = (True, arg, 0, None)
-                    continue
-                origin = str(arg.origin.name)
-                size = len(arg.expansion)
-                unit = size == 1 and ((arg.options.expand1 and arg.alias is None) or origin in _IDENTITY)
-                meth = getattr(_BUILDER, str(arg.alias or origin), None)
-                if unit:
-                    cb = None
-                elif meth is not None and not arg.options.expand1 and not arg.options.keep_all_tokens:
-                    cb = meth
-                else:
-                    cb = cbs[arg]
-                d[str(sym)] = (False, origin, size, cb)
-            rows[st] = d
-        table = [None] * (max(rows) + 1)
-        for st, d in rows.items():
-            table[st] = d
-        _TABLES = (table, pt.start_states["start"], pt.end_states["start"])
+        serial = _stored_table()
+        if serial is None:
+            serial = _lark_table()
+        rows, start, end = serial
+        table = []
+        for d in rows:
+            if d is None:
+                table.append(None)
+                continue
+            table.append({sym: (act if act[0] or act[3] is None else (False, act[1], act[2], getattr(_BUILDER, act[3])))
+                          for sym, act in d.items()})
+        _TABLES = (table, start, end)
     return _TABLES
+
+
+def _grammar_digest() -> str:
+    import hashlib
+    return hashlib.sha256(_grammar_text().encode("utf-8")).hexdigest()
+
+
+def _stored_table():
+    try:
+        from . import _uvl_table
+    except ImportError:  # pragma: no cover - the file is part of the package
+        return None
+    if _uvl_table.GRAMMAR_SHA256 != _grammar_digest():
+        return None
+    return _uvl_table.ROWS, _uvl_table.START, _uvl_table.END
+
+
+def _lark_table():
+    """The table as lark computes it from the grammar, callbacks named (``None``: a unit rule
+    whose value is its only child)."""
+    from lark import Lark
+    from lark.lexer import Lexer
+    from lark.parsers.lalr_analysis import Shift
+
+    class _ListLexer(Lexer):
+        def __init__(self, lexer_conf):
+            pass
+
+        def lex(self, data, *_):  # pragma: no cover - never used
+            return iter(())
+
+    parser = Lark(_grammar_text(), parser="lalr", lexer=_ListLexer, transformer=_BUILDER, maybe_placeholders=False)
+    pp = parser.parser.parser.parser
+    pt = pp.parse_table
+    rows: dict[int, dict] = {}
+    for st, acts in pt.states.items():
+        d = {}
+        for sym, (action, arg) in acts.items():
+            if action is Shift:
+                d[str(sym)] = (True, arg, 0, None)
+                continue
+            origin = str(arg.origin.name)
+            size = len(arg.expansion)
+            unit = size == 1 and ((arg.options.expand1 and arg.alias is None) or origin in _IDENTITY)
+            name = str(arg.alias or origin)
+            if unit:
+                cb = None
+            elif (getattr(_BUILDER, name, None) is not None and not arg.options.expand1
+                  and not arg.options.keep_all_tokens):
+                cb = name
+            else:  # lark's callback: the builder's method itself for every rule of the grammar
+                f = pp.callbacks[arg]
+                if getattr(f, "__self__", None) is not _BUILDER:  # pragma: no cover - the table test checks
+                    raise RuntimeError(f"uvl.lark: rule {name!r} has no builder method")
+                cb = f.__name__
+            d[str(sym)] = (False, origin, size, cb)
+        rows[st] = d
+    return _canonical(rows, pt.start_states["start"], pt.end_states["start"])
+
+
+def _canonical(rows: dict[int, dict], start: int, end: int):
+    """The table with its states numbered in breadth-first order from the start state, symbols
+    in sorted order (lark numbers them in an order that changes from run to run)."""
+    order = {start: 0}
+    queue = [start]
+    for st in queue:
+        for sym in sorted(rows[st]):
+            act = rows[st][sym]
+            if act[0] and act[1] not in order:
+                order[act[1]] = len(order)
+                queue.append(act[1])
+    if end not in order:  # pragma: no cover - the end state is reached by shifting $END
+        order[end] = len(order)
+    table: list = [None] * len(order)
+    for st, k in order.items():
+        d = rows.get(st, {})
+        table[k] = {sym: ((True, order[d[sym][1]], 0, None) if d[sym][0] else d[sym]) for sym in sorted(d)}
+    return table, order[start], order[end]
+
+
+def table_module_text() -> str:
+    """The text of :mod:`._uvl_table` for the current grammar (``python -m tvl_lsp.uvl.parser``
+    writes it)."""
+    rows, start, end = _lark_table()
+    out = ['"""The LALR table of ``grammars/uvl.lark``, as lark computes it (see :func:`.parser._tables`).',
+           "Generated by ``python -m tvl_lsp.uvl.parser``; do not edit.  tests/test_uvl_table.py checks it.\"\"\"",
+           "", "# flake8: noqa", f"GRAMMAR_SHA256 = {_grammar_digest()!r}", f"START = {start!r}", f"END = {end!r}",
+           "ROWS = ["]
+    for d in rows:
+        out.append(f"    {d!r},")
+    out.append("]")
+    return "\n".join(out) + "\n"
 
 
 class _SyntaxError(Exception):
@@ -868,3 +934,10 @@ def _issue(tok: Tok, expected: set, ln: Line, section: str) -> SyntaxIssue:
                            f"unexpected number {tok.value}: UVL reads '-' glued to a number as its sign; "
                            "put a space after '-' to subtract")
     return SyntaxIssue(tok.start, tok.end, f"unexpected {_describe(tok)}; expected {exp}")
+
+
+if __name__ == "__main__":  # pragma: no cover - regenerates the stored table
+    import os
+    from ..base.safewrite import write_files
+    here = os.path.dirname(os.path.abspath(__file__))
+    write_files(here, {"_uvl_table.py": table_module_text()}, within=[here])
