@@ -190,3 +190,71 @@ def test_fast_path_shapes(monkeypatch):
         assert _lines(text, True) == _lines(text, False), text
         fast, slow = _both(text, monkeypatch)
         assert fast == slow, text
+
+
+def _expr(rng: random.Random, names: list[str], depth: int = 0) -> str:
+    """A random constraint over ``names``: every operator of the grammar, parentheses, negations,
+    dotted and quoted names, sometimes arithmetic (read by the driver, line by line)."""
+    r = rng.random()
+    if depth > 5 or r < 0.3:
+        return rng.choice(names + ["R.F1", '"F 2"', "Fä3"])
+    if r < 0.45:
+        return "!" * rng.randint(1, 3) + _expr(rng, names, depth + 1)
+    if r < 0.6:
+        return "(" * (k := rng.randint(1, 3)) + _expr(rng, names, depth + 1) + ")" * k
+    if r < 0.65:
+        return rng.choice([f"{rng.choice(names)}.price > 2", f"sum(F1.price) < 10", "F1.w + 1 == 3 * 2",
+                           f"{rng.choice(names)}.tag == 'x'"])
+    op = rng.choice(["&", "|", "=>", "<=>"])
+    return " ".join(_expr(rng, names, depth + 1) if i % 2 == 0 else op for i in range(2 * rng.randint(1, 4) - 1))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_fast_constraints_agree_with_the_driver(seed, monkeypatch):
+    """Constraints of every Boolean operator, nested, chained, negated, with dotted / quoted
+    names and arithmetic lines among them: the fast path's model and diagnostics are the
+    general path's, and so are the CNF and the count the analysis makes of them."""
+    from tvl_lsp.analysis.encode import encode
+    from tvl_lsp.analysis.engine import ModelAnalysis
+    rng = random.Random(1000 + seed)
+    taken = []
+    real = uvl_build.fast_parse
+
+    def counted(*a):
+        r = real(*a)
+        taken.append(r is not None and bool(r.constraints))
+        return r
+
+    monkeypatch.setattr(uvl_build, "fast_parse", counted)
+    for k in range(25):
+        names = [f"F{i}" for i in range(1, 9)] + ['"F 2"']
+        tab = rng.choice(["\t", "  "])
+        feats = ["features", f"{tab}R", f"{tab * 2}optional"] + [f"{tab * 3}{n}" for n in names[:-1]]
+        feats += [f"{tab * 2}alternative", f"{tab * 3}\"F 2\"", f"{tab * 3}Fä3 {{price 3}}", f"{tab * 3}X"]
+        cons = [tab + _expr(rng, names) for _ in range(rng.randint(1, 8))]
+        text = "\n".join(feats + ["constraints"] + cons) + "\n"
+        if k % 5 == 4:  # a broken one now and then: the general path reports it
+            text = _mutate(rng, text)
+        fast, slow = _both(text, monkeypatch)
+        assert fast == slow, text
+        if k % 5 == 0:
+            a = parse_uvl(text, "/m/model.uvl", read_file=lambda p: None)
+            with monkeypatch.context() as mp:
+                mp.setattr(uvl_build, "fast_parse", lambda *a: None)
+                b = parse_uvl(text, "/m/model.uvl", read_file=lambda p: None)
+            ea, eb = encode(a.model), encode(b.model)
+            assert (ea.nvars, ea.clauses()) == (eb.nvars, eb.clauses()), text
+            if not a.errors:
+                assert ModelAnalysis(a.model).count_result().value == ModelAnalysis(b.model).count_result().value
+    assert sum(taken) >= 15
+
+
+def test_fast_constraints_shapes(monkeypatch):
+    base = "features\n\tR\n\t\toptional\n\t\t\tA\n\t\t\tB\n\t\t\tC\nconstraints\n"
+    for c in ["A", "!A", "!!(A)", "((A))", "A & B | C", "A | B & C", "A => B => C", "A <=> B <=> C",
+              "A => B <=> C | !A & B", "R.A => B", "A.", "A &", "(A", "A)", "A B", "!", "()", "A.price > 3",
+              "A => B\n\tB => C", "A\n\t\tB", "A\n B", "(" * 80 + "A" + ")" * 80, "!" * 80 + "A",
+              " & ".join("ABC" * 50), "A\nfeatures\n\tS"]:
+        text = base + "\t" + c + "\n"
+        fast, slow = _both(text, monkeypatch)
+        assert fast == slow, text

@@ -12,13 +12,14 @@ from __future__ import annotations
 from typing import Optional
 
 from .lexer import Line, Tok, layout
-from .parser import (_BUILDER, _GROUP_KWS, _LOCK, RawFeature, RawFile, RawGroup, RawRef, _Ctx, _run, _SyntaxError,
-                     _tables)
+from .parser import (_BUILDER, _GROUP_KWS, _LOCK, RawConstraint, RawFeature, RawFile, RawGroup, RawRef, _Ctx, _run,
+                     _SyntaxError, _tables)
 
 _SYN_FEATURES = Tok("FEATURES", "features", 0, 0)
 _SYN_NL = Tok("_NL", "", 0, 0)
 _SYN_INDENT = Tok("_INDENT", "", 0, 0)
 _SYN_DEDENT = Tok("_DEDENT", "", 0, 0)
+_SYN_CONSTRAINTS = Tok("CONSTRAINTS", "constraints", 0, 0)
 
 
 def fast_parse(lines: list[Line], end_pos: int, span, path: str) -> Optional[RawFile]:
@@ -55,7 +56,17 @@ def _fast_parse(lines: list[Line], end_pos: int, span, path: str) -> Optional[Ra
     roots = _fast_tree(lines, fi + 1, hi, end_pos)
     if roots is None or ctx.issues:
         return None
-    lay = layout(lines[:fi + 1] + lines[hi:], end_pos)
+    rest = lines[hi:]
+    constraints = None
+    if (len(rest) > 1 and len(rest[0].toks) == 1 and rest[0].toks[0].type == "CONSTRAINTS"
+            and all(ln.indent == rest[1].indent for ln in rest[2:])):
+        # a ``constraints`` block, each line at one indentation: read line by line below, the
+        # driver sees the keyword alone
+        constraints = _fast_constraints(rest[1:], end_pos)
+        if constraints is None or ctx.issues:
+            return None
+        rest = rest[:1]
+    lay = layout(lines[:fi + 1] + rest, end_pos)
     if lay.problems:
         return None
     try:
@@ -64,6 +75,10 @@ def _fast_parse(lines: list[Line], end_pos: int, span, path: str) -> Optional[Ra
         return None
     if ctx.issues or raw.features_kw is not lines[fi].toks[0] or raw.roots:
         return None
+    if constraints is not None:
+        if raw.constraints:
+            return None
+        raw.constraints = constraints
     raw.roots = roots
     raw.broken_names = set()
     return raw
@@ -148,3 +163,110 @@ def _fast_line(toks: list[Tok], end_pos: int) -> Optional[RawFeature]:
     if len(raw.roots) != 1 or raw.roots[0].groups:
         return None
     return raw.roots[0]
+
+
+# ---------------------------------------------------------------- constraints
+
+class _NotPlain(Exception):
+    pass
+
+
+_LEVELS = ("IFF", "IMPLIES", "OR", "AND")  # the grammar's binary levels, loosest first, all left-associative
+_PLAIN = frozenset(("ID", "QID", "DOT", "NOT", "LPAR", "RPAR") + _LEVELS)
+_MAX_NEST = 60  # deeper parentheses / negations: the driver (it has no recursion limit)
+
+
+def _fast_constraints(lines: list[Line], end_pos: int) -> Optional[list[RawConstraint]]:
+    """The constraints of ``lines`` (one per line), as the driver's ``constraint_line`` makes
+    them.  A Boolean line (names, ``! & | => <=>``, parentheses) is read by :class:`_Expr`,
+    calling the builder's callbacks as the driver's reductions would; any other line
+    (arithmetic, aggregates, literals) is read alone by the driver.  None on any syntax error."""
+    out = []
+    for ln in lines:
+        toks = ln.toks
+        e = None
+        if all(t.type in _PLAIN for t in toks):
+            try:
+                e = _Expr(toks).parse()
+            except _NotPlain:
+                e = None
+        if e is None:
+            try:
+                raw = _run([_SYN_CONSTRAINTS, _SYN_NL, _SYN_INDENT, *toks, _SYN_NL, _SYN_DEDENT], end_pos)
+            except _SyntaxError:
+                return None
+            if len(raw.constraints) != 1:
+                return None
+            out.append(raw.constraints[0])
+            continue
+        out.append(RawConstraint(e, e._s, e._e))
+    return out
+
+
+class _Expr:
+    """Precedence climbing over one line's tokens for the Boolean part of the grammar::
+
+        iff_e: impl_e (IFF impl_e)*     impl_e: or_e (IMPLIES or_e)*     or_e: and_e (OR and_e)*
+        and_e: not_e (AND not_e)*       not_e: NOT not_e | atom          atom: reference | ( iff_e )
+
+    The values are the builder's (``binop``, ``unop``, ``name``, ``paren``, ``reference``) for
+    the same arguments the LALR reductions pass; anything else raises :class:`_NotPlain`."""
+
+    __slots__ = ("toks", "i", "n", "nest")
+
+    def __init__(self, toks: list[Tok]):
+        self.toks = toks
+        self.i = 0
+        self.n = len(toks)
+        self.nest = 0
+
+    def parse(self):
+        e = self.level(0)
+        if self.i != self.n:
+            raise _NotPlain
+        return e
+
+    def level(self, k: int):
+        if k == 4:
+            return self.unary()
+        left = self.level(k + 1)
+        op_type = _LEVELS[k]
+        toks = self.toks
+        binop = _BUILDER.binop
+        while self.i < self.n and toks[self.i].type == op_type:
+            op = toks[self.i]
+            self.i += 1
+            right = self.level(k + 1)
+            left = binop([left, op, right])
+        return left
+
+    def unary(self):
+        if self.i >= self.n:
+            raise _NotPlain
+        t = self.toks[self.i]
+        tt = t.type
+        if tt == "NOT" or tt == "LPAR":
+            self.nest += 1
+            if self.nest > _MAX_NEST:
+                raise _NotPlain
+            self.i += 1
+            if tt == "NOT":
+                e = _BUILDER.unop([t, self.unary()])
+            else:
+                inner = self.level(0)
+                if self.i >= self.n or self.toks[self.i].type != "RPAR":
+                    raise _NotPlain
+                rp = self.toks[self.i]
+                self.i += 1
+                e = _BUILDER.paren([t, inner, rp])
+            self.nest -= 1
+            return e
+        if tt != "ID" and tt != "QID":
+            raise _NotPlain
+        self.i += 1
+        ref = _BUILDER.reference([t])
+        toks, n = self.toks, self.n
+        while self.i + 1 < n and toks[self.i].type == "DOT" and toks[self.i + 1].type in ("ID", "QID"):
+            ref = _BUILDER.reference([ref, toks[self.i], toks[self.i + 1]])
+            self.i += 2
+        return _BUILDER.name([ref])
