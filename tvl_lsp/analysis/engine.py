@@ -23,16 +23,18 @@ from __future__ import annotations
 import functools
 import threading
 import time
-from typing import Iterable, Iterator, Mapping, Optional
+from typing import TYPE_CHECKING, Iterable, Iterator, Mapping, Optional
 
 from ..base.diagnostics import Diagnostic, Related, Severity, register
 from ..tvl import model as M
 from ..base import formula as fm
-from .configure import propagate as _propagate
 from .counting.errors import CancelLike, CountCancelled, CountTimeout
 from .counting.service import CNFCounter, Count, FeatureCounts
 from .encode import Element, Encoding, encode
-from .solve import Analyzer, Explanation, products, smallest_product
+# solve (the SAT-based analyses, pysat's totalizer) and configure are imported when first used:
+# counting a model needs neither (0.01-0.02 s of a cold `tvl-lsp count`)
+if TYPE_CHECKING:
+    from .solve import Analyzer, Explanation
 
 VOID_MODEL = register("void-model", Severity.ERROR,
                       "The feature model has no product: no selection of features satisfies it.", "analysis")
@@ -108,6 +110,7 @@ class ModelAnalysis:
     @property
     def analyzer(self) -> Analyzer:
         if self._an is None:
+            from .solve import Analyzer
             self._an = Analyzer(self.encoding)
         return self._an
 
@@ -442,6 +445,7 @@ class ModelAnalysis:
     def enumerate(self, limit: Optional[int] = 100, include: Iterable[str] = (), exclude: Iterable[str] = (),
                   formula: Optional[fm.Formula] = None) -> Iterator[dict[str, bool]]:
         """Products one by one (each a {feature name: selected} dict), at most ``limit``."""
+        from .solve import products
         for m in products(self.encoding, self._lits(include, exclude), self._extra(formula), limit):
             yield self._product(m)
 
@@ -449,10 +453,12 @@ class ModelAnalysis:
                      exclude: Iterable[str] = (), smallest: bool = True) -> Optional[dict[str, bool]]:
         """A product satisfying the formula and the partial configuration (the one with the
         fewest selected features when ``smallest``), or None when there is none."""
+        from .solve import smallest_product
         m = smallest_product(self.encoding, self._lits(include, exclude), self._extra(formula), smallest)
         return None if m is None else self._product(m)
 
     # ------------------------------------------------------------------ configuration
     def propagate(self, decisions: Mapping[str, bool], count: bool = True,
                   timeout: Optional[float] = 5.0):
-        return _propagate(self, decisions, count=count, timeout=timeout)
+        from .configure import propagate
+        return propagate(self, decisions, count=count, timeout=timeout)
