@@ -504,3 +504,26 @@ def generate_launch_description():
     res = load_launch2(str(p), {"scenario": "runner"}, workspace_root=str(tmp_path / "ws"), env=ENV,
                        stub_packages=True)
     assert res.error is None and sorted(n["executable"] for n in res.nodes) == ["a", "runner"]
+
+
+def test_a_failing_python_expression_is_told_in_python_terms(tmp_path):
+    """PythonExpression over bare true / false fails in launch (NameError): the error names the
+    PythonExpression and says how to write it in Python, not in XML's $(eval) terms."""
+    p = _ws(tmp_path, HEAD + """from launch.substitutions import PythonExpression
+
+
+def generate_launch_description():
+    return LaunchDescription([
+        DeclareLaunchArgument('A', default_value='false'),
+        DeclareLaunchArgument('B', default_value='false'),
+        Node(package='demo_pkg', executable='a', name='a',
+             condition=IfCondition(PythonExpression([LaunchConfiguration('A'), ' and ', LaunchConfiguration('B')]))),
+    ])
+""")
+    from tvl_lsp.project.check import check_paths
+    diags = check_paths([str(p)])
+    errs = [d for d in diags if d.code == "eval-error"]
+    assert errs, [d.message for d in diags]
+    assert all(d.message.startswith("PythonExpression('") and "$(eval" not in d.message
+               and "LaunchConfiguration('x')" in d.message for d in errs), [d.message for d in errs]
+    assert _text_at(p, errs[0].span).startswith("PythonExpression(")

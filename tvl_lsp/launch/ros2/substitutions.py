@@ -217,10 +217,16 @@ class SubstEval:
                 except pyexpr.EvalFailure as ex:
                     hint = ""
                     m = re.match(r"name '(true|false)' is not defined", ex.message)
-                    if m:
+                    py = path.endswith(".py")  # (a Python launch file's PythonExpression, in its own terms)
+                    if m and py:
+                        hint = (f" (PythonExpression is Python: the value {m.group(1)} of a LaunchConfiguration is a "
+                                "name there; compare strings, e.g. PythonExpression([\"'\", LaunchConfiguration('x'), "
+                                "\"' == 'true'\"]))")
+                    elif m:
                         hint = (f" ($(eval) is Python: the value {m.group(1)} of a $(var) is a name there; compare "
                                 f"strings, e.g. '\"$(var x)\" == \"true\"')")
-                    self.fact(EVAL_ERROR, f"$(eval '{text}') fails: {ex.kind}: {ex.message}{hint}", path, span, ce,
+                    what = f"PythonExpression('{text}')" if py else f"$(eval '{text}')"
+                    self.fact(EVAL_ERROR, f"{what} fails: {ex.kind}: {ex.message}{hint}", path, span, ce,
                               launch=(ex.kind, ex.message))
             return merge(out)
         if name == "dirname":
