@@ -15,7 +15,7 @@ from __future__ import annotations
 import re
 from typing import Optional
 
-from . import apis
+from . import apis, treesit
 from .cpp_helpers import (_C_STRING_WRITERS, _callee, _declarator_name, _define_ir, _fcall, _format_ir,
                           _function_declarator, _function_type_param, _is_nodehandle, _is_nodeish_type,
                           _is_string_type, _nodekind, _ptype, _string_value, _value_type, _vexing)
@@ -947,25 +947,6 @@ class _Walker:
         return None
 
 
-_PARSER = [None]
-
-
-def parser():
-    if _PARSER[0] is None:
-        import tree_sitter as ts
-        import tree_sitter_cpp as tsc
-        _PARSER[0] = ts.Parser(ts.Language(tsc.language()))
-    return _PARSER[0]
-
-
 def cpp_facts(src: bytes) -> dict:
     """The facts of one C++ source (never raises on bad input)."""
-    tree = parser().parse(src)
-    w = _Walker(src)
-    try:
-        w.walk(tree.root_node)
-    except RecursionError:
-        w.f["notes"].append("nested too deeply: read only in part")
-    if tree.root_node.has_error:
-        w.f["notes"].append("has syntax errors (read as far as tree-sitter could)")
-    return w.f
+    return treesit.facts("cpp", _Walker, src)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import re
 from typing import Optional
 
-from . import apis
+from . import apis, treesit
 from .types import python_type
 
 VERSION = 6
@@ -572,25 +572,6 @@ def _format_brace(fmt: str, vals: list, kws: dict, text: str):
     return ["cat", [p for p in parts if p != ["s", ""]]] if len(parts) > 1 else parts[0]
 
 
-_PARSER = [None]
-
-
-def parser():
-    if _PARSER[0] is None:
-        import tree_sitter as ts
-        import tree_sitter_python as tsp
-        _PARSER[0] = ts.Parser(ts.Language(tsp.language()))
-    return _PARSER[0]
-
-
 def py_facts(src: bytes) -> dict:
     """The facts of one Python module (never raises on bad input)."""
-    tree = parser().parse(src)
-    w = _Walker(src)
-    try:
-        w.walk(tree.root_node)
-    except RecursionError:
-        w.f["notes"].append("nested too deeply: read only in part")
-    if tree.root_node.has_error:
-        w.f["notes"].append("has syntax errors (read as far as tree-sitter could)")
-    return w.f
+    return treesit.facts("python", _Walker, src)
