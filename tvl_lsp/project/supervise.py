@@ -39,7 +39,7 @@ import time
 from collections import deque
 from dataclasses import replace
 from multiprocessing.connection import wait as wait_for
-from typing import Callable, Optional, Sequence
+from typing import Any, Callable, Optional, Sequence
 
 from ..base.diagnostics import Diagnostic, Severity
 from ..base.text import Pos, Span
@@ -135,7 +135,43 @@ def _files(unit) -> list[str]:
     return ([unit.model] if unit.model is not None and unit.model_wanted else []) + [lf for lf, _, _ in unit.launches]
 
 
-class _Worker:
+class _Watched:
+    """What the command knows of a forked worker's memory (``self.proc``), and the look it takes
+    at it every :data:`TICK`."""
+    proc: Any
+    room0: Optional[int] = None        # room below its limit when its work started
+    room: Optional[int] = None         # ... at the last look
+    stuck_since: Optional[float] = None
+    rescued_at: Optional[float] = None  # when its limit was raised (then it is replaced after its work)
+
+    def near_limit(self) -> bool:
+        if self.rescued_at is not None or self.stuck_since is not None:
+            return True
+        if self.room is None or self.room0 is None:
+            return False
+        return self.room < min(NEAR_MAX, self.room0 // NEAR_SHARE)
+
+    def look(self, now: float) -> bool:
+        """Stuck at its memory limit for :data:`STUCK_SECONDS`: its limit is raised (once) so that
+        it can unwind.  True when it must be killed: it cannot be rescued, or is stuck again
+        :data:`GRACE` seconds after."""
+        r = room_of(self.proc.pid)
+        if r is not None:  # (None: no limit, or it died since: a zombie's size is not known)
+            self.room = r
+        if r is not None and r < STUCK_ROOM:
+            self.stuck_since = self.stuck_since or now
+        else:
+            self.stuck_since = None
+        if self.stuck_since is None or now - self.stuck_since < STUCK_SECONDS:
+            return False
+        if self.rescued_at is None and raise_limit(self.proc.pid, RESCUE_BYTES):
+            self.rescued_at, self.stuck_since = now, None
+            STATS["rescued"] += 1
+            return False
+        return self.rescued_at is None or now - self.rescued_at > GRACE
+
+
+class _Worker(_Watched):
     def __init__(self, ctx, run_unit: RunUnit):
         mine, theirs = ctx.Pipe(duplex=True)
         self.proc = ctx.Process(target=_serve, args=(theirs, run_unit), name="tvl-lsp-check", daemon=True)
@@ -148,24 +184,12 @@ class _Worker:
         self.left: list[str] = []          # the unit's files not finished yet
         self.got: list[Diagnostic] = []    # the diagnostics of the unit's finished files
         self.current: Optional[str] = None
-        self.room0: Optional[int] = None   # room below its limit when the unit started
-        self.room: Optional[int] = None    # ... at the last look
-        self.stuck_since: Optional[float] = None
-        self.rescued_at: Optional[float] = None
-        self.retire = False                # replace it after this unit (its limit was raised)
 
     def assign(self, index: int, unit) -> None:
         self.index, self.unit, self.left, self.got, self.current = index, unit, _files(unit), [], None
         self.stuck_since = None
         self.room0 = self.room = room_of(self.proc.pid)
         self.conn.send(unit)
-
-    def near_limit(self) -> bool:
-        if self.rescued_at is not None or self.stuck_since is not None:
-            return True
-        if self.room is None or self.room0 is None:
-            return False
-        return self.room < min(NEAR_MAX, self.room0 // NEAR_SHARE)
 
     def kill(self) -> None:
         try:
@@ -236,25 +260,13 @@ def run(units: Sequence, jobs: int, run_unit: RunUnit, order: Optional[Sequence[
 
     def watch(w: _Worker, now: float) -> None:
         """A busy worker stuck at its memory limit: rescued, then killed."""
-        r = room_of(w.proc.pid)
-        if r is not None:  # (None: no limit, or it died since: a zombie's size is not known)
-            w.room = r
-        if r is not None and r < STUCK_ROOM:
-            w.stuck_since = w.stuck_since or now
-        else:
-            w.stuck_since = None
-        if w.stuck_since is None or now - w.stuck_since < STUCK_SECONDS:
-            return
-        if w.rescued_at is None and raise_limit(w.proc.pid, RESCUE_BYTES):
-            w.rescued_at, w.stuck_since, w.retire = now, None, True
-            STATS["rescued"] += 1
-        elif w.rescued_at is None or now - w.rescued_at > GRACE:
+        if w.look(now):
             STATS["killed"] += 1
             fail(w, lambda p: budget.exceeded(p, budget.MEMORY_WHAT))
 
     try:
         while pending or any(w.index is not None for w in workers):
-            for w in [w for w in workers if w.index is None and (w.retire or not pending)]:
+            for w in [w for w in workers if w.index is None and (w.rescued_at is not None or not pending)]:
                 workers.remove(w)
                 try:
                     w.conn.send(None)
@@ -333,10 +345,9 @@ def call(fn: Callable, *args, **kw):
     proc.start()
     wr.close()
     STATS["workers"] += 1
-    room0 = room_of(proc.pid)
-    room: Optional[int] = room0
-    stuck_since: Optional[float] = None
-    rescued_at: Optional[float] = None
+    w = _Watched()
+    w.proc = proc
+    w.room0 = w.room = room_of(proc.pid)
     res = None
     try:
         while True:
@@ -348,16 +359,7 @@ def call(fn: Callable, *args, **kw):
                 break
             if not proc.is_alive():
                 break
-            now = time.monotonic()
-            got = room_of(proc.pid)
-            if got is not None:
-                room = got
-                stuck_since = (stuck_since or now) if got < STUCK_ROOM else None
-            if rescued_at is None and stuck_since is not None and now - stuck_since >= STUCK_SECONDS:
-                raise_limit(proc.pid, RESCUE_BYTES)
-                STATS["rescued"] += 1
-                rescued_at = now
-            elif rescued_at is not None and now - rescued_at >= GRACE:
+            if w.look(time.monotonic()):
                 STATS["killed"] += 1
                 proc.kill()
                 raise MemoryError()
@@ -369,9 +371,7 @@ def call(fn: Callable, *args, **kw):
         rd.close()
     if res is None:  # died without an answer
         STATS["died"] += 1
-        near = rescued_at is not None or stuck_since is not None or (
-            room is not None and room0 is not None and room < min(NEAR_MAX, room0 // NEAR_SHARE))
-        if near:
+        if w.near_limit():
             raise MemoryError()
         raise RuntimeError(f"the worker died (exit code {proc.exitcode})")
     kind, value, out, err = res
