@@ -178,5 +178,21 @@ def test_remap_on_unhinted_node_is_not_reported_and_unknown_nodes_are_named(tmp_
     assert "unless a node without hints does: /mystery" in diags[0].message
 
 
+
+def test_unhinted_nodes_of_other_products_of_the_finding_are_named(tmp_path):
+    """The finding holds in products with and without the node that has no hints: its witness
+    (the smallest product) has none, but the caveat names it: in the products where it runs the
+    finding may not hold (the thesis's Random, remapped to the topic, in its generic.launch)."""
+    text = """<launch>
+  <arg name="rnd"/>
+  <node pkg="p" type="listener" name="listener"/>
+  <node pkg="p" type="mystery" name="mystery" if="$(arg rnd)"/>
+</launch>"""
+    hints = "nodes:\n  p/listener: {subscribe: {chatter: std_msgs/String}}\n"
+    diags = _alone(text, hints, tmp_path)
+    assert [d.code for d in diags] == ["topic-without-publisher"]
+    assert diags[0].witness == {"rnd": False}
+    assert "unless a node without hints does: /mystery" in diags[0].message
+
 def test_no_hints_no_findings(tmp_path):
     assert _alone("<launch><node pkg='p' type='t' name='n'/></launch>", "project: x\n", tmp_path) == []

@@ -146,10 +146,13 @@ class _Ctx:
                                        f"{v.remap.label} makes `{v.name}` {self.g.resources[ln.resource].name}"))
         return out
 
-    def unhinted_in(self, w) -> list[str]:
+    def unhinted_under(self, cond: fm.Formula) -> list[str]:
+        """The nodes without hints (their endpoints unknown) that run in some product where
+        ``cond`` holds: what a finding over ``cond`` cannot rule out, not only in its witness."""
         if self._unhinted is None:
             self._unhinted = [n for n in self.g.nodes.values() if not n.known and n.condition is not None]
-        return sorted(n.name for n in self._unhinted if fm.evaluate(n.condition, w))
+        return sorted(n.name for n in self._unhinted
+                      if not self.o.empty(self.o.term(fm.conj([cond, n.condition]))))
 
     def diag(self, code: str, sev: Severity, anchor_loc: Optional[Location], w, message: str,
              related: list[Related], data: dict) -> Optional[Diagnostic]:
@@ -193,7 +196,7 @@ def _missing_side(ctx: _Ctx, code: str, have_kind: str, lack_kind: str) -> list[
         if elsewhere:
             msg += f"; it has {'publishers' if lack_kind == 'publish' else 'subscribers'} only in other " \
                    f"products: {_names(elsewhere)}"
-        unknown = ctx.unhinted_in(w)
+        unknown = ctx.unhinted_under(cond)
         if unknown:
             msg += (f" (unless a node without hints does: {_names(unknown)} — their sources are not in the "
                     "workspace: add their hints to the HAROS project file)")
