@@ -29,7 +29,7 @@ from pathlib import Path
 
 DEFAULT_MODELS = os.environ.get("TVL_LSP_MODELS", "/work/shared/models")
 NAMES = ["automotive01", "ecos-i386pc", "automotive2_1"]
-TWINS = ["embtoolkit"]
+TWINS = ["embtoolkit", "ecos-i386pc", "automotive01", "busybox-1.18.0", "uclinux-distribution"]
 PY = sys.executable
 TVL = str(Path(PY).with_name("tvl-lsp"))
 
@@ -68,6 +68,23 @@ def tvl_count(path: Path):
         cpu, wall, out = measure([TVL, "count", str(path), "--json"], env)
     n = json.loads(out)["count"] if cpu is not None else None
     return cpu, wall, n
+
+
+def plain_status(uvl: Path) -> str:
+    """Does ``tvl-lsp count`` read the model by the plain path (tvl_lsp.uvl.plain), and is its
+    CNF the full path's, clause for clause?"""
+    from tvl_lsp.analysis.encode import encode
+    from tvl_lsp.analysis.plaincnf import encode_plain
+    from tvl_lsp.uvl import parse_uvl
+    from tvl_lsp.uvl.plain import read_plain
+    text = uvl.read_text()
+    p = read_plain(text)
+    if p is None:
+        return "no (full path)"
+    c = encode_plain(p)
+    enc = encode(parse_uvl(text, str(uvl)).model)
+    same = (c.n_features, c.nvars, c.clauses) == (enc.n_features, enc.nvars, enc.clauses())
+    return "yes, same CNF" if same else "yes, CNF DIFFERS"
 
 
 def med(xs):
@@ -117,8 +134,8 @@ def main(argv=None) -> int:
               flush=True)
     print()
     print("| twin | raw d4 on .dimacs CPU (wall) s | tvl-lsp count .dimacs | tvl-lsp count .uvl | "
-          ".uvl / .dimacs (CPU) | .uvl / raw d4 | counts agree |")
-    print("|---|---|---|---|---|---|---|")
+          ".uvl / .dimacs (CPU) | .uvl / raw d4 | counts agree | plain path |")
+    print("|---|---|---|---|---|---|---|---|")
     for name in args.twin or TWINS:
         dim, uvl = models / "dimacs" / f"{name}.dimacs", models / "uvl" / f"{name}.uvl"
         if not (dim.exists() and uvl.exists()):
@@ -140,7 +157,7 @@ def main(argv=None) -> int:
         r2 = f"{m['uvl'][0] / m['d4'][0]:.2f}" if m["uvl"][0] and m["d4"][0] else "-"
         ok = len(counts) == 1 and None not in counts
         print(f"| {name} | {fmt(*m['d4'])} | {fmt(*m['dimacs'])} | {fmt(*m['uvl'])} | {r1} | {r2} | "
-              f"{'yes' if ok else 'NO'} |", flush=True)
+              f"{'yes' if ok else 'NO'} | {plain_status(uvl)} |", flush=True)
     print()
     print(subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
     return 0

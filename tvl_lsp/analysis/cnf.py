@@ -1,17 +1,14 @@
 """The literal-level CNF pieces of the encoding: :class:`Element` (a piece of the model that can
-take part in an explanation), :class:`_Builder` (Tseitin gates with constant folding and
-structural caching; cardinality by defined sequential counters) and :func:`_clean`."""
+take part in an explanation); :class:`_Builder` and :func:`_clean` live in :mod:`.clauses`
+(no model objects) and are re-exported here."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Iterable, Optional
+from typing import Optional
 
 from ..base.text import Span
-from .distribute import Lit
-
-# at-most-one constraints over up to this many literals are pairwise clauses (no counter)
-PAIRWISE_MAX = 128
+from .clauses import PAIRWISE_MAX, Lit, _Builder, _clean  # noqa: F401 (used from here by others)
 
 
 @dataclass(eq=False, slots=True)
@@ -27,132 +24,3 @@ class Element:
     # literals whose conjunction is the negation of the element (for redundancy checks),
     # None when unknown
     negation: Optional[list[int]] = None
-
-
-class _Builder:
-    """Literal-level Tseitin builder with constant folding and structural caching."""
-
-    def __init__(self, top: int, hard: list[list[int]]):
-        self.top = top
-        self.hard = hard
-        self._and_cache: dict[frozenset, int] = {}
-
-    def new_var(self) -> int:
-        self.top += 1
-        return self.top
-
-    @staticmethod
-    def not_(x: Lit) -> Lit:
-        if x is True:
-            return False
-        if x is False:
-            return True
-        return -x
-
-    def and_(self, xs: Iterable[Lit]) -> Lit:
-        out: set[int] = set()
-        for x in xs:
-            if x is True:
-                continue
-            if x is False:
-                return False
-            if -x in out:
-                return False
-            out.add(x)
-        if not out:
-            return True
-        if len(out) == 1:
-            return next(iter(out))
-        key = frozenset(out)
-        a = self._and_cache.get(key)
-        if a is None:
-            a = self.new_var()
-            for x in out:
-                self.hard.append([-a, x])
-            self.hard.append([a] + [-x for x in out])
-            self._and_cache[key] = a
-        return a
-
-    def or_(self, xs: Iterable[Lit]) -> Lit:
-        return self.not_(self.and_(self.not_(x) for x in xs))
-
-    def iff(self, a: Lit, b: Lit) -> Lit:
-        return self.and_([self.or_([self.not_(a), b]), self.or_([a, self.not_(b)])])
-
-    def ite(self, c: Lit, a: Lit, b: Lit) -> Lit:
-        return self.or_([self.and_([c, a]), self.and_([self.not_(c), b])])
-
-    def exactly_one(self, lits: list[int]) -> None:
-        if len(lits) == 1:
-            self.hard.append([lits[0]])
-            return
-        self.hard.append(list(lits))
-        self.hard.extend(self.at_most(lits, 1))
-
-    def at_most(self, lits: list[int], k: int) -> list[list[int]]:
-        """Clauses for sum(lits) <= k.  The auxiliary variables are *defined* (hard Tseitin
-        clauses, see :meth:`_counter`), so they are functions of ``lits``: a count of all
-        variables equals the count projected on ``lits`` (what d4 counts)."""
-        n = len(lits)
-        if k >= n:
-            return []
-        if k <= 0:
-            return [[-x] for x in lits]
-        if k == 1 and n <= PAIRWISE_MAX:
-            # pairwise: more clauses than a counter but no variable; d4's decomposition (its
-            # time grows with the variables) and the solvers' propagation both prefer it, and
-            # the DIMACS exports of feature models are written so
-            return [[-lits[i], -lits[j]] for i in range(n) for j in range(i + 1, n)]
-        out: list[list[int]] = []
-        # sequential counter: x_i may not be selected once k of x_1..x_{i-1} are
-        for i, r in enumerate(self._counter(lits[:-1], k)):
-            c = _clean([-lits[i + 1], self.not_(r[k])])
-            if c is not None:
-                out.append(c)
-        return out
-
-    def at_least(self, lits: list[int], k: int) -> list[list[int]]:
-        n = len(lits)
-        if k <= 0:
-            return []
-        if k > n:
-            return [[]]
-        if k == 1:
-            return [list(lits)]
-        if k == n:
-            return [[x] for x in lits]
-        last = None
-        for last in self._counter(lits, k):
-            pass
-        c = _clean([last[k]])
-        return [] if c is None else [c]
-
-    def _counter(self, lits: list[int], k: int):
-        """For each prefix x_1..x_i of ``lits`` (i = 1..n), the list r with r[j] the literal
-        (or constant) "at least j of x_1..x_i are true", j = 0..k, each defined by
-        r_i[j] <-> r_{i-1}[j] || (x_i && r_{i-1}[j-1]) (a sequential counter whose counter
-        variables are functions of the inputs)."""
-        prev: list[Lit] = [True] + [False] * k
-        for x in lits:
-            cur: list[Lit] = [True]
-            for j in range(1, k + 1):
-                cur.append(self.or_([prev[j], self.and_([x, prev[j - 1]])]))
-            prev = cur
-            yield cur
-
-
-def _clean(clause: Iterable[Lit]) -> Optional[list[int]]:
-    """Drop false literals; None when the clause holds (a true literal or x, -x)."""
-    out: list[int] = []
-    seen: set[int] = set()
-    for x in clause:
-        if x is True:
-            return None
-        if x is False:
-            continue
-        if -x in seen:
-            return None
-        if x not in seen:
-            seen.add(x)
-            out.append(x)
-    return out

@@ -4,14 +4,10 @@ calls :meth:`DistributeMixin._cnf` before falling back to Tseitin definitions.""
 
 from __future__ import annotations
 
-from typing import Optional, Union
+from typing import Optional
 
 from ..tvl import model as M
-
-Lit = Union[int, bool]  # a literal, or a folded constant
-# a disjunct of a distributed disjunction may have this many clauses (the result stays within
-# the caller's limit): absorption can make a long disjunct short
-PRODUCT_ITEM_MAX = 256
+from .clauses import PRODUCT_ITEM_MAX, Lit, _absorb, _minimal, _tautology  # noqa: F401
 
 
 class NotEncodable(Exception):
@@ -143,72 +139,3 @@ class DistributeMixin:
             if not acc:
                 return []
         return acc
-
-
-def _absorb(multi: list[list[list[Lit]]], base: list[Lit]) -> Optional[list[list[list[Lit]]]]:
-    """The disjuncts (each a CNF) of a disjunction with the clauses absorbed by another
-    disjunct dropped: ``(A & K) | D | ...`` is ``A | D | ...`` when ``!K`` is ``D`` (``K`` a
-    clause, ``D`` a conjunction of literals or one literal of ``base``).  Applied one disjunct
-    after the other, each against the disjunction as it stands, so every step keeps it
-    equivalent.  A KConfig export's "the first of A1..An selected" (``R & A1 | !(R & A1) & R
-    & A2 | ...``: 228 KB in embtoolkit.uvl, 202 Tseitin variables) becomes ``R & A1 | R & A2 |
-    ...``.  Single-clause disjuncts move to ``base``; None: a disjunct became true."""
-    from collections import Counter
-
-    def pure(c) -> Optional[frozenset]:
-        if all(len(k) == 1 and type(k[0]) is int for k in c):
-            return frozenset(k[0] for k in c)
-        return None
-
-    keys = Counter(frozenset([x]) for x in base if type(x) is int)
-    for c in multi:
-        k = pure(c)
-        if k is not None:
-            keys[k] += 1
-    out = []
-    for c in multi:
-        own = pure(c)
-        if own is not None:
-            out.append(c)
-            continue
-        kept = []
-        for k in c:
-            if len(k) > 1 and all(type(x) is int for x in k) and keys.get(frozenset(-x for x in k)):
-                continue
-            if len(k) == 1 and type(k[0]) is int and keys.get(frozenset([-k[0]])):
-                continue
-            kept.append(k)
-        if not kept:
-            return None
-        if len(kept) == 1:
-            base.extend(kept[0])
-            for x in kept[0]:
-                if type(x) is int:
-                    keys[frozenset([x])] += 1
-            continue
-        k = pure(kept)
-        if k is not None:
-            keys[k] += 1
-        out.append(kept)
-    return out
-
-
-def _minimal(clauses: list[list[Lit]]) -> list[list[Lit]]:
-    """The clauses without those another one subsumes (and without repeats)."""
-    if len(clauses) < 2:
-        return clauses
-    order = sorted(range(len(clauses)), key=lambda i: len(clauses[i]))
-    kept: set[int] = set()
-    sets: list[set] = []
-    for i in order:
-        sc = set(clauses[i])
-        if any(s <= sc for s in sets):
-            continue
-        kept.add(i)
-        sets.append(sc)
-    return [c for i, c in enumerate(clauses) if i in kept]  # (in their order)
-
-
-def _tautology(clause: list[Lit]) -> bool:
-    ints = {x for x in clause if type(x) is int}
-    return any(-x in ints for x in ints)

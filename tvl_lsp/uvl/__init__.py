@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import gc
 from dataclasses import dataclass, field
-from typing import Callable, Optional
+from typing import TYPE_CHECKING, Callable, Optional
 
-from ..base.diagnostics import Diagnostic, Severity
-from ..base.files import read_text_or_none
-from ..tvl.model import Model
+if TYPE_CHECKING:  # (importing the package stays cheap: ``tvl-lsp count`` reads plain UVL with
+    # :mod:`.plain` alone)
+    from ..base.diagnostics import Diagnostic
+    from ..tvl.model import Model
 
 __all__ = ["parse_uvl", "UvlResult"]
 
@@ -28,10 +29,12 @@ class UvlResult:
 
     @property
     def errors(self) -> list[Diagnostic]:
+        from ..base.diagnostics import Severity
         return [d for d in self.diagnostics if d.severity == Severity.ERROR]
 
 
 def _default_read(path: str) -> Optional[str]:
+    from ..base.files import read_text_or_none
     return read_text_or_none(path)  # regular files within the size cap only
 
 

@@ -97,6 +97,38 @@ class _DimacsModel:
         return r.total, out, r.engine
 
 
+class _PlainModel:
+    """A plain UVL model (no errors by construction): its features by name and the counting
+    service over :func:`tvl_lsp.analysis.plaincnf.encode_plain`'s CNF, the encoding's own."""
+
+    def __init__(self, p):
+        from ...analysis.counting import CNFCounter
+        from ...analysis.plaincnf import encode_plain
+        cnf = encode_plain(p)
+        self.names = p.names
+        self.n = cnf.n_features
+        self.var = {name: i + 1 for i, name in enumerate(self.names)}
+        # as ModelAnalysis.counter: no attribute variables, so the auxiliaries are determined
+        self.counter = CNFCounter(cnf.nvars, cnf.clauses, cnf.n_features, determined=True, label=self.names[0])
+
+    def known(self, name: str) -> bool:
+        return name in self.var
+
+    def lits(self, include, exclude):
+        return [self.var[n] for n in include] + [-self.var[n] for n in exclude]
+
+    def count(self, include, exclude, timeout):
+        return self.counter.count(self.lits(include, exclude), timeout=timeout)
+
+    def per_feature(self, include, exclude, timeout):
+        r = self.counter.feature_counts(self.lits(include, exclude), timeout=timeout)
+        out = {}
+        for i, name in enumerate(self.names):
+            if r.counts[i + 1] is not None:
+                out[name] = r.counts[i + 1]
+        return r.total, out, r.engine
+
+
 class _TvlModel:
     def __init__(self, analysis):
         self.a = analysis
@@ -118,9 +150,10 @@ class _TvlModel:
         return r.total, out, r.engine
 
 
-def load(path: str, need_unique_names: bool = True):
+def load(path: str, need_unique_names: bool = True, plain: bool = True):
     """(model, parse errors) for a ``.tvl`` / ``.uvl`` model or a DIMACS CNF.  Raises OSError or
-    ValueError."""
+    ValueError.  A plain UVL model (:mod:`tvl_lsp.uvl.plain`) is read without the full front end
+    unless ``plain`` is False."""
     from ...base.files import read_text  # regular files only, within the size cap
     text = read_text(path)
     if path.endswith((".dimacs", ".cnf")):
@@ -129,6 +162,11 @@ def load(path: str, need_unique_names: bool = True):
             return m, []
         from ...analysis.engine import ModelAnalysis
         return _TvlModel(ModelAnalysis.from_dimacs(text, path)), []
+    if path.endswith(".uvl") and plain:
+        from ...uvl.plain import read_plain
+        p = read_plain(text)
+        if p is not None:  # plain UVL: its CNF without the model (the same clauses)
+            return _PlainModel(p), []
     from ...analysis.engine import ModelAnalysis
     from ...analysis.formats import parse_any_model
     res = parse_any_model(text, path)
@@ -177,7 +215,8 @@ def _main(argv: list[str]) -> int:
     collecting = gc.isenabled()
     gc.disable()
     try:
-        m, errors = load(args.model)
+        # (a dotted name, "Root.A.B", is a long name: the full model knows those)
+        m, errors = load(args.model, plain=not any("." in x for x in args.include + args.exclude))
         if isinstance(m, _TvlModel):
             m.a.counter  # (encoded here, collections still off)
     except OSError as ex:
@@ -195,10 +234,10 @@ def _main(argv: list[str]) -> int:
                 gc.freeze()
             gc.enable()
     report_errors("tvl-lsp count", args.model, m, errors)
-    if isinstance(m, _TvlModel) and args.timeout is None:
+    if isinstance(m, (_TvlModel, _PlainModel)) and args.timeout is None:
         # as for a DIMACS file: d4 in this process (a child costs its start-up; Ctrl-C still
         # ends the command)
-        m.a.counter.inprocess = True
+        (m.a.counter if isinstance(m, _TvlModel) else m.counter).inprocess = True
     for name in args.include + args.exclude:
         if not m.known(name):
             print(f"tvl-lsp count: no feature named {name!r} in {args.model}", file=sys.stderr)
