@@ -59,7 +59,7 @@ def _model(rng: random.Random) -> str:
 
     def feature(depth: int, budget: int) -> None:
         n[0] += 1
-        name = rng.choice([f"F{n[0]}", f"F{n[0]}", f'"F {n[0]}"', f"Fä{n[0]}", f"f_{n[0]}#"])
+        name = rng.choice([f"F{n[0]}", f"F{n[0]}", f'"F {n[0]}"', f"Fä{n[0]}", f"f_{n[0]}#", f'"F//{n[0]}"'])
         names.append(name)
         out.append(tab * depth + name + rng.choice(_TAILS))
         if budget <= 1 or depth > 8:
@@ -177,6 +177,10 @@ def test_big_groups_and_long_constraints():
     "features\n\tR\nconstraints\n\tR\nfeatures\n\tS\n",
     "namespace\nfeatures\n\tR\n",
     "features\n\t\"a.b\"\n",
+    "features\n\t\"a\" // c \"b\"\n",                        # a comment between quoted names
+    "features\n\tR {d 'x \"y'} // \"z\"\n",
+    "features\n\t\"a /* b\"\n\t\t/* \"\n",
+    "features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\tA => R // \"A\"\n",
 ])
 def test_declined(text):
     assert read_plain(text) is None
@@ -190,6 +194,9 @@ def test_declined(text):
     "features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\t" + "(" * 60 + "A" + ")" * 60 + "\n",
     "features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\t" + " & ".join(["A"] * 500) + "\n",
     "features\n\tR\n\t\toptional\n\t\t\tA\nconstraints\n\t" + " => ".join(["A"] * 150) + "\n",
+    # "//" and "/*" inside quoted names and strings are no comments (uvl-models' Financial Services)
+    "features\n\tR {d 'http://x /* y'}\n\t\toptional\n\t\t\t\"F_a//b\"\n\t\t\t\"c/*d\"\n"
+    "constraints\n\t\"F_a//b\" => !\"c/*d\"\n\t(\"c/*d\")|R\n",
 ])
 def test_accepted(text):
     assert _check(text)

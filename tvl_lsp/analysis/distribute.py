@@ -74,6 +74,17 @@ class DistributeMixin:
                     return self._product([(e.left, False), (e.right, False)], ctx, limit)
                 return self._product_and([(e.left, True), (e.right, True)], ctx, limit)
             if op == "<->" or (op in ("==", "!=") and self._is_bool(e.left) and self._is_bool(e.right)):
+                # remembered: an equivalence distributes both its sides in both polarities, so
+                # each one nested in it was distributed again for every enclosing one --
+                # exponential in their nesting (a 700-character constraint of mixed <=> and =>
+                # took 5 s).  The same node, polarity and limit give the same clauses (the
+                # Tseitin builder returns the variable it made before), and no caller changes
+                # the lists it is given.
+                memo = self.__dict__.setdefault("_iff_memo", {})
+                key = (id(e), pos, id(ctx), limit)
+                hit = memo.get(key)
+                if hit is not None and hit[0] is e and hit[1] is ctx:
+                    return hit[2]
                 same = pos if op != "!=" else not pos
                 if same:
                     a = self._product([(e.left, False), (e.right, True)], ctx, limit)
@@ -81,9 +92,9 @@ class DistributeMixin:
                 else:
                     a = self._product([(e.left, True), (e.right, True)], ctx, limit)
                     b_ = self._product([(e.left, False), (e.right, False)], ctx, limit) if a is not None else None
-                if a is None or b_ is None or len(a) + len(b_) > limit:
-                    return None
-                return a + b_
+                r = None if a is None or b_ is None or len(a) + len(b_) > limit else a + b_
+                memo[key] = (e, ctx, r)  # (holding e: its id is not reused meanwhile)
+                return r
         x = self._blit(e, ctx)
         return [[x if pos else self.b.not_(x)]]
 

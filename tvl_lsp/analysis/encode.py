@@ -314,6 +314,7 @@ class Encoding(DistributeMixin):
                 else:
                     try:
                         clauses = []
+                        self._iff_memo = {}
                         self._assert(c.expr, prefix, True, clauses, f)
                     except NotEncodable as ex:
                         self.not_encoded.append((c, "constraint", c.path, c.span, str(ex)))

@@ -39,6 +39,7 @@ def encode_plain(p) -> PlainCNF:
             enc.group(f, g, elems)
     for e in p.constraints:
         out: list[list[int]] = []
+        enc.iff_memo = {}
         enc.assert_(e, [], True, out)
         elems.append(out)
     clauses = list(hard)
@@ -55,10 +56,11 @@ def _chain(e, op: str) -> list:
 
 
 class _Enc:
-    __slots__ = ("b",)
+    __slots__ = ("b", "iff_memo")
 
     def __init__(self, b: _Builder):
         self.b = b
+        self.iff_memo: dict = {}
 
     def group(self, pv: int, g, elems) -> None:
         kids = g.children
@@ -184,7 +186,11 @@ class _Enc:
                 if pos:
                     return self.product([(e[1], False), (e[2], True)], limit)
                 return self.product_and([(e[1], True), (e[2], False)], limit)
-            # "<->"
+            # "<->" (remembered, as DistributeMixin does: nested equivalences)
+            key = (id(e), pos, limit)
+            hit = self.iff_memo.get(key)
+            if hit is not None and hit[0] is e:
+                return hit[1]
             left, right = e[1], e[2]
             if pos:
                 a = self.product([(left, False), (right, True)], limit)
@@ -192,9 +198,9 @@ class _Enc:
             else:
                 a = self.product([(left, True), (right, True)], limit)
                 b_ = self.product([(left, False), (right, False)], limit) if a is not None else None
-            if a is None or b_ is None or len(a) + len(b_) > limit:
-                return None
-            return a + b_
+            r = None if a is None or b_ is None or len(a) + len(b_) > limit else a + b_
+            self.iff_memo[key] = (e, r)
+            return r
         x = self.blit(e)
         return [[x if pos else self.b.not_(x)]]
 

@@ -80,12 +80,27 @@ def _width(ind: str) -> int:
 
 def read_plain(text: str) -> Optional[Plain]:
     """The model when ``text`` is plain UVL (see the module's text), else None."""
-    if "//" in text or "/*" in text or "\f" in text or "\v" in text or "\x00" in text:
+    if "\f" in text or "\v" in text or "\x00" in text:
+        return None
+    if ("//" in text or "/*" in text) and _comment_outside_quotes(text):
         return None
     try:
         return _read(text)
     except (_Decline, RecursionError):
         return None
+
+
+# quoted names and strings, as the lexer reads them from left to right (neither spans lines)
+_QUOTED = re.compile(r""""[^"\r\n]*"|'[^'\r\n]*'""")
+
+
+def _comment_outside_quotes(text: str) -> bool:
+    """Does a comment start outside every quoted name and string?  A ``//`` inside a quoted
+    name is no comment (the Financial Services models of uvl-models have such names).  The
+    quoted spans are found from left to right as the lexer finds them, so the first comment the
+    lexer sees is left over."""
+    rest = _QUOTED.sub(" ", text)
+    return "//" in rest or "/*" in rest
 
 
 def _lines(text: str):
