@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 from ..base.text import Span
-from .clauses import PAIRWISE_MAX, Lit, _Builder, _clean  # noqa: F401 (used from here by others)
+from .clauses import _Builder, _clean  # noqa: F401 (imported from here by the encoding)
 
 
 @dataclass(eq=False, slots=True)
