@@ -145,6 +145,69 @@ def _clean(clause: Iterable[Lit]) -> Optional[list[int]]:
     return out
 
 
+def distribute(base: list[Lit], multi: list[list[list[Lit]]], limit: int, inner: int,
+               absorb: bool = True) -> Optional[list[list[Lit]]]:
+    """The CNF of the disjunction of the literals ``base`` (mutated) and the CNFs ``multi``,
+    distributed clause by clause with the tautologies dropped as they appear (a KConfig export's
+    "A & B1 | A & B2 | !A | !B3" is one clause, !A | B1 | B2 | !B3, not 2^k); None when a step
+    takes more than ``inner`` clauses or leaves more than ``limit``.  ``absorb=False``: every
+    CNF in ``multi`` is a conjunction of literals, which :func:`_absorb` keeps as it is."""
+    if multi and absorb:
+        multi = _absorb(multi, base)
+        if multi is None:
+            return []
+    if _tautology(base):
+        return []
+    acc = [base]
+    i = 0
+    if multi:
+        # while one disjunct at a time survives beside the clause so far (a KConfig choice,
+        # "R & A1 | R & A2 | !R | !A3": R dies on !R), the clause grows by it: what the loop
+        # below does then, without its sets made again for every disjunct
+        a = list(base)
+        sa = {x for x in a if type(x) is int}
+        for c in multi:
+            survivor = None
+            alive = 0
+            for b in c:
+                if len(b) == 1:
+                    x = b[0]
+                    if type(x) is int and -x in sa:
+                        continue
+                elif any(type(x) is int and -x in sa for x in b):
+                    continue
+                alive += 1
+                if alive > 1:
+                    break
+                survivor = b
+            if alive != 1:
+                break
+            if limit < 1:
+                return None
+            a.extend([x for x in survivor if x not in sa])
+            for x in survivor:
+                if type(x) is int:
+                    sa.add(x)
+            i += 1
+        acc = [a]
+    for c in multi[i:]:
+        nxt = []
+        for a in acc:
+            sa = {x for x in a if type(x) is int}
+            for b in c:
+                if any(type(x) is int and -x in sa for x in b):
+                    continue
+                nxt.append(a + [x for x in b if x not in sa])
+                if len(nxt) > inner:
+                    return None
+        acc = _minimal(nxt)
+        if len(acc) > limit:
+            return None
+        if not acc:
+            return []
+    return acc
+
+
 def _absorb(multi: list[list[list[Lit]]], base: list[Lit]) -> Optional[list[list[list[Lit]]]]:
     """The disjuncts (each a CNF) of a disjunction with the clauses absorbed by another
     disjunct dropped: ``(A & K) | D | ...`` is ``A | D | ...`` when ``!K`` is ``D`` (``K`` a

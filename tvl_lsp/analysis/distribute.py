@@ -7,7 +7,7 @@ from __future__ import annotations
 from typing import Optional
 
 from ..tvl import model as M
-from .clauses import PRODUCT_ITEM_MAX, Lit, _absorb, _minimal, _tautology  # noqa: F401
+from .clauses import PRODUCT_ITEM_MAX, Lit, distribute
 
 
 class NotEncodable(Exception):
@@ -125,28 +125,4 @@ class DistributeMixin:
                 base.extend(c[0])
             else:
                 multi.append(c)
-        if multi:
-            multi = _absorb(multi, base)
-            if multi is None:
-                return []
-        if _tautology(base):
-            return []
-        # distributed clause by clause, the tautologies dropped as they appear: a KConfig
-        # export's "A & B1 | A & B2 | !A | !B3" is one clause (!A | B1 | B2 | !B3), not 2^k
-        acc = [base]
-        for c in multi:
-            nxt = []
-            for a in acc:
-                sa = {x for x in a if type(x) is int}
-                for b in c:
-                    if any(type(x) is int and -x in sa for x in b):
-                        continue
-                    nxt.append(a + [x for x in b if x not in sa])
-                    if len(nxt) > inner:
-                        return None
-            acc = _minimal(nxt)
-            if len(acc) > limit:
-                return None
-            if not acc:
-                return []
-        return acc
+        return distribute(base, multi, limit, inner)

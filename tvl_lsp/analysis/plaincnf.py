@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Optional
 
-from .clauses import PRODUCT_ITEM_MAX, Lit, _absorb, _Builder, _clean, _minimal, _tautology
+from .clauses import PRODUCT_ITEM_MAX, Lit, _Builder, _clean, _tautology, distribute
 
 DISTRIBUTE_MAX = 16  # .encode.DISTRIBUTE_MAX (a test keeps them equal)
 
@@ -250,57 +250,4 @@ class _Enc:
             else:
                 multi.append(c)
                 pure = False
-        if multi and not pure:
-            multi = _absorb(multi, base)
-            if multi is None:
-                return []
-        if _tautology(base):
-            return []
-        acc = [base]
-        i = 0
-        if multi:
-            # while one disjunct at a time survives beside the clause so far (a KConfig choice,
-            # "R & A1 | R & A2 | !R | !A3": R dies on !R), the clause grows by it: what the loop
-            # below does then, without its sets made again for every disjunct
-            a = list(base)
-            sa = {x for x in a if type(x) is int}
-            for c in multi:
-                survivor = None
-                alive = 0
-                for b in c:
-                    if len(b) == 1:
-                        x = b[0]
-                        if type(x) is int and -x in sa:
-                            continue
-                    elif any(type(x) is int and -x in sa for x in b):
-                        continue
-                    alive += 1
-                    if alive > 1:
-                        break
-                    survivor = b
-                if alive != 1:
-                    break
-                if limit < 1:
-                    return None
-                a.extend([x for x in survivor if x not in sa])
-                for x in survivor:
-                    if type(x) is int:
-                        sa.add(x)
-                i += 1
-            acc = [a]
-        for c in multi[i:]:
-            nxt = []
-            for a in acc:
-                sa = {x for x in a if type(x) is int}
-                for b in c:
-                    if any(type(x) is int and -x in sa for x in b):
-                        continue
-                    nxt.append(a + [x for x in b if x not in sa])
-                    if len(nxt) > inner:
-                        return None
-            acc = _minimal(nxt)
-            if len(acc) > limit:
-                return None
-            if not acc:
-                return []
-        return acc
+        return distribute(base, multi, limit, inner, absorb=not pure)
